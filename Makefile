@@ -1,0 +1,55 @@
+# Two commands for a fresh Debian 12 machine: `make demo` and `make test`.
+# ROS Python exists only for /usr/bin/python3, so /usr/bin goes first on PATH.
+SHELL := /bin/bash
+export PATH := /usr/bin:/bin:$(PATH)
+
+# The catkin workspace lives outside the checkout: a workspace inside it whose
+# src/ links back to the package makes rosrun's `find -L` warn about a loop.
+WS ?= $(HOME)/.cache/rbx1_nav/ws
+ROS := source $(WS)/devel/setup.bash &&
+ARGS ?=
+
+DEB_PACKAGES := catkin ros-cmake-modules python3-catkin-pkg python3-setuptools \
+  python3-rospy python3-tf2-ros python3-geometry-msgs python3-nav-msgs \
+  python3-sensor-msgs python3-rosgraph-msgs python3-rostest python3-roslaunch \
+  python3-rosmaster python3-rostopic python3-rosnode python3-rosparam \
+  python3-rosbag rosbash librostest-dev libgeometry-msgs-dev libnav-msgs-dev \
+  libsensor-msgs-dev libstd-msgs-dev libtf2-ros-dev ros-robot-state-publisher \
+  rviz xvfb catkin-lint python3-pytest python3-hypothesis python3-numpy \
+  python3-matplotlib
+SUDO := $(if $(filter 0,$(shell id -u)),,sudo)
+
+.PHONY: deps build test unit lint demo clean
+
+deps:
+	@missing=$$(dpkg-query -W -f='$${Package} $${Status}\n' $(DEB_PACKAGES) 2>/dev/null \
+	    | awk '$$NF == "installed" {print $$1}' | sort | comm -13 - <(tr ' ' '\n' <<< "$(DEB_PACKAGES)" | sed '/^$$/d' | sort)); \
+	if [ -n "$$missing" ]; then \
+	  echo "deps: installing" $$missing; \
+	  $(SUDO) apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends $$missing; \
+	else echo "deps: all $(words $(DEB_PACKAGES)) Debian packages present"; fi
+
+build: deps
+	@mkdir -p $(WS)/src
+	@ln -sfn $(CURDIR) $(WS)/src/rbx1_nav
+	cd $(WS) && flock $(WS)/.build.lock catkin_make --force-cmake -DPYTHON_EXECUTABLE=/usr/bin/python3 > $(WS)/build.log 2>&1 \
+	  || { tail -40 $(WS)/build.log; exit 1; }
+	@echo "build: workspace $(WS) ready; use it with: source $(WS)/devel/setup.bash"
+
+lint: build
+	$(ROS) catkin_lint -W2 --strict $(WS)/src/rbx1_nav
+
+# Unit tests (pytest, no master), then every test/*.test through rostest;
+# pytest prints the one summary line for both.
+test: lint
+	$(ROS) python3 -m pytest test/unit test/integration -q -p no:cacheprovider
+
+unit:
+	python3 -m pytest test/unit -q -p no:cacheprovider
+
+demo: build
+	$(ROS) roslaunch rbx1_nav odom_out_and_back_sim.launch $(ARGS)
+
+clean:
+	rm -rf $(WS)

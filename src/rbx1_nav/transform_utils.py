@@ -1,0 +1,54 @@
+"""Angle helpers for planar robots: yaw of a quaternion and angle wrapping.
+
+Pure Python (no rospy, no PyKDL) so the out-and-back logic and its tests can
+use it without a ROS installation.
+"""
+import math
+
+__all__ = ['quat_to_angle', 'normalize_angle']
+
+
+def _quat_components(q):
+    """Return (x, y, z, w) of a Quaternion-like object or a 4-sequence."""
+    if all(hasattr(q, name) for name in 'xyzw'):
+        return q.x, q.y, q.z, q.w
+    try:
+        x, y, z, w = q
+    except (TypeError, ValueError):
+        raise ValueError('quaternion must have x, y, z, w fields or be an '
+                         '(x, y, z, w) sequence, got %r' % (q,))
+    return x, y, z, w
+
+
+def quat_to_angle(q):
+    """Yaw (rotation about z) of quaternion ``q`` in radians, in (-pi, pi].
+
+    ``q`` may be a geometry_msgs/Quaternion, any object with ``x y z w``
+    attributes, or an ``(x, y, z, w)`` sequence. A non-unit quaternion is
+    normalised first. Raises ValueError for a zero-length or non-finite one.
+    """
+    x, y, z, w = (float(c) for c in _quat_components(q))
+    if not all(math.isfinite(c) for c in (x, y, z, w)):
+        raise ValueError('quaternion has a non-finite component: '
+                         '(%r, %r, %r, %r)' % (x, y, z, w))
+    norm = math.sqrt(x * x + y * y + z * z + w * w)
+    if norm == 0.0:
+        raise ValueError('quaternion has zero length; it encodes no rotation')
+    x, y, z, w = x / norm, y / norm, z / norm, w / norm
+    # ZYX Euler yaw; atan2 of the unnormalised pair would do too, but the
+    # division keeps huge inputs from overflowing the squares.
+    yaw = math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+    return math.pi if yaw == -math.pi else yaw
+
+
+def normalize_angle(angle):
+    """The angle equivalent to ``angle`` (radians) in [-pi, pi].
+
+    Constant time for any finite float, however large. Raises ValueError for
+    NaN or infinity.
+    """
+    angle = float(angle)
+    if not math.isfinite(angle):
+        raise ValueError('cannot normalise a non-finite angle: %r' % angle)
+    # math.remainder is exact (IEEE remainder), so this also holds for 1e300.
+    return math.remainder(angle, 2.0 * math.pi)
