@@ -16,7 +16,8 @@ TEST_FILES = sorted(glob.glob(os.path.join(TEST_DIR, '*.test')))
 @pytest.mark.parametrize('test_file', TEST_FILES,
                          ids=[os.path.basename(f) for f in TEST_FILES])
 def test_rostest(test_file):
-    proc = subprocess.run(['rostest', '--text', test_file],
+    # Not --text: with it rostest exits 0 even when a test fails.
+    proc = subprocess.run(['rostest', test_file],
                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                           universal_newlines=True, timeout=600)
     assert proc.returncode == 0, '%s failed:\n%s' % (

@@ -1,0 +1,47 @@
+#!/usr/bin/env python3
+"""sim_clock: publish /clock at ~speed times real time, for /use_sim_time runs.
+
+One clock serves every robot on the master, so it publishes the global
+/clock topic. This is the only node that reads the wall clock; every other
+node follows the simulated time it publishes, so tests run the same at 1x
+and at 20x. The pacing itself is rbx1_nav.sim_clock.ClockPacer.
+
+Parameters: ~speed (1.0, x real time), ~step (0.01 s of sim time per tick,
+at most 0.01), ~start_time (0.0 s).
+"""
+import time
+
+import rospy
+from rosgraph_msgs.msg import Clock
+
+from rbx1_nav.sim_clock import MAX_STEP, ClockPacer
+
+
+def main():
+    rospy.init_node('sim_clock')
+    speed = float(rospy.get_param('~speed', 1.0))
+    step = float(rospy.get_param('~step', MAX_STEP))
+    start = float(rospy.get_param('~start_time', 0.0))
+    try:
+        pacer = ClockPacer(speed, step, start)
+    except ValueError as err:
+        rospy.logfatal('sim_clock: %s', err)
+        raise SystemExit(1)
+    if not rospy.get_param('/use_sim_time', False):
+        rospy.logwarn('sim_clock: /use_sim_time is not set; nodes will ignore /clock')
+    rospy.loginfo('sim_clock: speed=%g x real time, step=%g s, start_time=%g s',
+                  speed, step, start)
+    pub = rospy.Publisher('/clock', Clock, queue_size=10)
+    while not rospy.is_shutdown():
+        sim_ns, wait = pacer.advance(time.monotonic())
+        if wait > 0:
+            time.sleep(wait)
+        try:
+            pub.publish(Clock(clock=rospy.Time(*divmod(sim_ns, 10 ** 9))))
+        except rospy.ROSException:
+            if not rospy.is_shutdown():  # publishing fails only while shutting down
+                raise
+
+
+if __name__ == '__main__':
+    main()

@@ -1,0 +1,103 @@
+"""Plot an out-and-back run: odometry and true paths, start and end poses.
+
+No rospy or rosbag here: ``nodes/plot_course.py`` reads a bag into
+:class:`Track` objects and calls :func:`plot_course`. The error shown is
+the end pose against the start pose, which is what the book's course (two
+legs of 1 m out and a half turn) should return to.
+"""
+import math
+
+from rbx1_nav.transform_utils import normalize_angle
+
+__all__ = ['Track', 'end_error', 'plot_course', 'describe_error']
+
+
+class Track(object):
+    """A named sequence of planar poses (x, y, yaw) in time order."""
+
+    def __init__(self, name, poses=None):
+        self.name = name
+        self.poses = list(poses or [])
+
+    def add(self, x, y, yaw):
+        self.poses.append((float(x), float(y), float(yaw)))
+
+    def __len__(self):
+        return len(self.poses)
+
+    @property
+    def xs(self):
+        return [p[0] for p in self.poses]
+
+    @property
+    def ys(self):
+        return [p[1] for p in self.poses]
+
+    @property
+    def length(self):
+        """Distance travelled along the track, in metres."""
+        return sum(math.hypot(b[0] - a[0], b[1] - a[1])
+                   for a, b in zip(self.poses, self.poses[1:]))
+
+
+def end_error(track):
+    """(position error m, heading error rad) of the last pose vs the first."""
+    if not track.poses:
+        raise ValueError('track %r has no poses' % track.name)
+    (x0, y0, a0), (x1, y1, a1) = track.poses[0], track.poses[-1]
+    return math.hypot(x1 - x0, y1 - y0), normalize_angle(a1 - a0)
+
+
+def describe_error(track):
+    """'odom: 3.1 mm, +0.97 deg' for a track's end-vs-start error."""
+    dist, heading = end_error(track)
+    return '%s: %.1f mm, %+.2f deg' % (track.name, 1000.0 * dist,
+                                        math.degrees(heading))
+
+
+def _pose_arrow(ax, pose, color, label, length=0.12):
+    x, y, yaw = pose
+    ax.annotate('', xy=(x + length * math.cos(yaw), y + length * math.sin(yaw)),
+                xytext=(x, y),
+                arrowprops=dict(arrowstyle='->', color=color, lw=2))
+    ax.plot([x], [y], marker='o' if label == 'start' else 's', color=color,
+            markersize=7, linestyle='none')
+
+
+def plot_course(tracks, path, title=None):
+    """Draw every non-empty track with start/end poses; save a PNG to path.
+
+    Returns the title used (first line: the course, second: the errors).
+    """
+    import matplotlib
+    matplotlib.use('Agg')
+    import matplotlib.pyplot as plt
+
+    tracks = [t for t in tracks if len(t)]
+    if not tracks:
+        raise ValueError('nothing to plot: every track is empty')
+    # Wide solid first, thin dashed over it: identical paths stay visible.
+    styles = [('tab:red', 4.0, '-'), ('tab:blue', 1.5, '--'),
+              ('tab:green', 1.5, ':'), ('tab:purple', 1.0, '-.')]
+    fig, ax = plt.subplots(figsize=(8, 5))
+    for track, (color, width, line) in zip(tracks, styles):
+        ax.plot(track.xs, track.ys, color=color, lw=width, linestyle=line,
+                alpha=0.8, label='%s (%.2f m travelled)' % (track.name,
+                                                           track.length))
+        _pose_arrow(ax, track.poses[0], color, 'start')
+        _pose_arrow(ax, track.poses[-1], color, 'end')
+    ax.plot([], [], 'ko', label='start pose')
+    ax.plot([], [], 'ks', label='end pose')
+    full_title = '%s\nend vs start: %s' % (
+        title or 'Out and back', '; '.join(describe_error(t) for t in tracks))
+    ax.set_title(full_title, fontsize=10)
+    ax.set_xlabel('x (m)')
+    ax.set_ylabel('y (m)')
+    ax.set_aspect('equal', adjustable='datalim')
+    ax.margins(0.15)
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc='best', fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return full_title

@@ -1,0 +1,274 @@
+"""Kinematic differential-drive robot: the model behind nodes/fake_turtlebot.py.
+
+A stand-in for the ArbotiX fake robot of *ROS By Example*, with what that one
+lacks: a command watchdog, speed and acceleration limits, exact arc
+integration, non-zero covariances and an optional "realistic" mode in which
+odometry drifts from the truth the way an uncalibrated robot's does.
+
+Three views of the same motion are kept apart:
+
+* **truth** - where the robot really is (integrated from the velocity the
+  base actually executes, after watchdog, clamping and acceleration limits);
+* **wheels** - what the encoders read: the true wheel travel plus optional
+  noise (``encoder_noise``);
+* **odometry** - the pose the robot's driver computes from the encoder
+  readings; scaled by ``*_scale_error`` (a miscalibrated robot) and then by
+  ``odom_*_scale_correction`` (the driver's calibration parameters);
+* a **gyro** measures the true yaw rate plus bias and noise, independent of
+  the odometry errors.
+
+Time is plain float seconds supplied by the caller (the node passes ROS time),
+so the model behaves identically at any simulation speed. No rospy here.
+"""
+import math
+from collections import deque
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+__all__ = ['Pose2D', 'DiffDriveConfig', 'DiffDriveSim', 'arc_step',
+           'yaw_to_quaternion', 'covariance_from_diagonal',
+           'DEFAULT_COVARIANCE_DIAGONAL']
+
+# x, y, z, roll, pitch, yaw. A planar base observes only x, y and yaw; the
+# large values for the rest follow the TurtleBot driver's convention.
+DEFAULT_COVARIANCE_DIAGONAL = (1e-3, 1e-3, 1e6, 1e6, 1e6, 1e-3)
+
+
+@dataclass
+class Pose2D:
+    """A planar pose: position in metres, heading in radians in [-pi, pi]."""
+    x: float = 0.0
+    y: float = 0.0
+    theta: float = 0.0
+
+
+def arc_step(pose, ds, dtheta):
+    """The pose after travelling ``ds`` metres while turning ``dtheta`` rad.
+
+    The path is a circular arc (a straight line when ``dtheta`` is 0), which
+    is what a differential drive traces at constant (v, w): exact, unlike
+    forward Euler. The chord of the arc is ``ds * sin(dtheta/2)/(dtheta/2)``
+    and points along the mean heading; numpy's sinc keeps that well defined
+    at ``dtheta == 0``.
+    """
+    chord = ds * float(np.sinc(dtheta / (2.0 * math.pi)))
+    heading = pose.theta + 0.5 * dtheta
+    return Pose2D(pose.x + chord * math.cos(heading),
+                  pose.y + chord * math.sin(heading),
+                  math.remainder(pose.theta + dtheta, 2.0 * math.pi))
+
+
+def yaw_to_quaternion(yaw):
+    """(x, y, z, w) of the rotation by ``yaw`` radians about z."""
+    return (0.0, 0.0, math.sin(0.5 * yaw), math.cos(0.5 * yaw))
+
+
+def covariance_from_diagonal(diagonal):
+    """Row-major 6x6 covariance (a list of 36 floats) with ``diagonal``.
+
+    Raises ValueError unless ``diagonal`` holds six finite positive numbers:
+    a zero variance claims perfect knowledge, which makes filters such as
+    robot_pose_ekf reject the message.
+    """
+    diag = np.asarray(diagonal, dtype=float)
+    if diag.shape != (6,) or not np.all(np.isfinite(diag)) or np.any(diag <= 0):
+        raise ValueError('a covariance diagonal needs six finite positive '
+                         'variances, got %r' % (diagonal,))
+    return np.diag(diag).ravel().tolist()
+
+
+@dataclass
+class DiffDriveConfig:
+    """Parameters of the simulated base; defaults are an ideal TurtleBot.
+
+    Every field is a private parameter of the node with the same name.
+    """
+    wheel_separation: float = 0.26      # m, between the wheel contact points
+    wheel_radius: float = 0.033         # m
+    max_linear_speed: float = 0.5       # m/s, larger commands are clamped
+    max_angular_speed: float = 3.0      # rad/s
+    accel_limit_linear: float = 0.0     # m/s^2, 0 = unlimited
+    accel_limit_angular: float = 0.0    # rad/s^2, 0 = unlimited
+    cmd_timeout: float = 0.5            # s without cmd_vel before stopping
+    command_latency: float = 0.0        # s between receipt and execution
+    linear_scale_error: float = 1.0     # odometry distance / true distance
+    angular_scale_error: float = 1.0    # odometry rotation / true rotation
+    odom_linear_scale_correction: float = 1.0   # driver calibration factor
+    odom_angular_scale_correction: float = 1.0  # driver calibration factor
+    encoder_noise: float = 0.0          # m per sqrt(m) of wheel travel (1 sigma)
+    gyro_noise_density: float = 0.0     # rad/s/sqrt(Hz) white rate noise
+    gyro_bias: float = 0.0              # rad/s constant rate offset
+    seed: int = None                    # None: fresh random noise each run
+
+    _POSITIVE = ('wheel_separation', 'wheel_radius', 'max_linear_speed',
+                 'max_angular_speed', 'cmd_timeout', 'linear_scale_error',
+                 'angular_scale_error', 'odom_linear_scale_correction',
+                 'odom_angular_scale_correction')
+    _NON_NEGATIVE = ('accel_limit_linear', 'accel_limit_angular',
+                     'command_latency', 'encoder_noise', 'gyro_noise_density')
+
+    def problems(self):
+        """Human-readable list of invalid values; empty when all are usable."""
+        found = []
+        for name in self._POSITIVE + self._NON_NEGATIVE + ('gyro_bias',):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and math.isfinite(value)):
+                found.append('%s must be a finite number, got %r' % (name, value))
+            elif name in self._POSITIVE and value <= 0:
+                found.append('%s must be > 0, got %r' % (name, value))
+            elif name in self._NON_NEGATIVE and value < 0:
+                found.append('%s must be >= 0, got %r' % (name, value))
+        if self.seed is not None and not isinstance(self.seed, int):
+            found.append('seed must be an integer, got %r' % (self.seed,))
+        return found
+
+    @classmethod
+    def names(cls):
+        """Names of all parameters, in declaration order."""
+        return [f.name for f in fields(cls)]
+
+
+def _max_change(accel_limit, dt):
+    """Largest speed change allowed in ``dt`` s; unbounded for a 0 limit."""
+    return accel_limit * dt if accel_limit > 0 else float('inf')
+
+
+def _approach(current, target, max_change):
+    """``target``, or ``current`` moved toward it by at most ``max_change``.
+
+    The result never passes ``target``, not even by a rounding error, so a
+    speed at its limit stays within it.
+    """
+    if abs(target - current) <= max_change:
+        return target
+    moved = current + math.copysign(max_change, target - current)
+    return min(max(moved, min(current, target)), max(current, target))
+
+
+class DiffDriveSim:
+    """The simulated base: feed it commands and times, read its state.
+
+    Call :meth:`command` for every cmd_vel and :meth:`step` at the control
+    rate. Each step holds one velocity over the interval since the previous
+    step (zero-order hold), chosen from the newest command executable by the
+    step's time, so a command takes effect within one step of arriving and
+    the watchdog stops the base within ``cmd_timeout`` plus one step.
+    """
+
+    def __init__(self, config=None):
+        self.config = config or DiffDriveConfig()
+        problems = self.config.problems()
+        if problems:
+            raise ValueError('invalid fake robot parameters: ' + '; '.join(problems))
+        self._rng = np.random.default_rng(self.config.seed)
+        self._pending = deque()        # (executable at, v, w), in arrival order
+        self._cmd = (0.0, 0.0)
+        self._cmd_time = None          # when the executing command became due
+        self._time = None
+        self.timed_out = False         # True while the watchdog holds the base
+        self.truth = Pose2D()
+        self.odom = Pose2D()
+        self.velocity = (0.0, 0.0)     # true (v, w) over the last step
+        self.odom_velocity = (0.0, 0.0)
+        self.wheel_angles = [0.0, 0.0]       # left, right encoder readings, rad
+        self.wheel_velocities = [0.0, 0.0]   # rad/s over the last step
+        self.gyro_rate = 0.0           # rad/s, measured
+        self.gyro_yaw = 0.0            # rad, integral of the measured rate
+
+    def command(self, v, w, stamp):
+        """Queue a velocity command received at ``stamp`` seconds.
+
+        Returns None for a usable command, ``'non-finite'`` when v or w is NaN
+        or infinite (the command is replaced by a stop) or ``'clamped'`` when
+        a speed exceeded its limit (it is executed at the limit).
+        """
+        cfg = self.config
+        v, w = float(v), float(w)
+        due = stamp + cfg.command_latency
+        if not (math.isfinite(v) and math.isfinite(w)):
+            self._pending.append((due, 0.0, 0.0))
+            return 'non-finite'
+        cv = float(np.clip(v, -cfg.max_linear_speed, cfg.max_linear_speed))
+        cw = float(np.clip(w, -cfg.max_angular_speed, cfg.max_angular_speed))
+        self._pending.append((due, cv, cw))
+        return 'clamped' if (cv, cw) != (v, w) else None
+
+    def step(self, now):
+        """Advance the simulation to ``now`` seconds; True if time advanced.
+
+        The first call only sets the clock. A call with a time at or before
+        the previous one integrates nothing; time moving backwards (a
+        restarted simulation clock) re-bases the clock there and drops the
+        commands received so far, which stops the base until the next one.
+        """
+        if self._time is None or now < self._time:
+            if self._time is not None:  # restarted clock: forget old commands
+                self._pending.clear()
+                self._cmd_time = None
+            self._time = now
+            return False
+        dt = now - self._time
+        if dt == 0.0:
+            return False
+        self._time = now
+        v, w = self._execute(now, dt)
+        self.velocity = (v, w)
+        self.truth = arc_step(self.truth, v * dt, w * dt)
+        self._update_wheels_and_odometry(v, w, dt)
+        self._update_gyro(w, dt)
+        return True
+
+    def _execute(self, now, dt):
+        """The (v, w) the base executes over the step ending at ``now``."""
+        cfg = self.config
+        while self._pending and self._pending[0][0] <= now:
+            self._cmd_time, v, w = self._pending.popleft()
+            self._cmd = (v, w)
+        self.timed_out = (self._cmd_time is None
+                          or now - self._cmd_time > cfg.cmd_timeout)
+        target_v, target_w = (0.0, 0.0) if self.timed_out else self._cmd
+        v, w = self.velocity
+        return (_approach(v, target_v, _max_change(cfg.accel_limit_linear, dt)),
+                _approach(w, target_w, _max_change(cfg.accel_limit_angular, dt)))
+
+    def _update_wheels_and_odometry(self, v, w, dt):
+        """Encoder readings from the true motion, then odometry from them."""
+        cfg = self.config
+        half_track = 0.5 * cfg.wheel_separation
+        travel = np.array([v - w * half_track, v + w * half_track]) * dt
+        if cfg.encoder_noise > 0:
+            # Variance grows with distance travelled, not with the step count.
+            travel += (cfg.encoder_noise * np.sqrt(np.abs(travel))
+                       * self._rng.standard_normal(2))
+        for i in (0, 1):
+            self.wheel_angles[i] += travel[i] / cfg.wheel_radius
+            self.wheel_velocities[i] = travel[i] / cfg.wheel_radius / dt
+        left, right = travel
+        ds = (0.5 * (left + right) * cfg.linear_scale_error
+              * cfg.odom_linear_scale_correction)
+        dtheta = ((right - left) / cfg.wheel_separation
+                  * cfg.angular_scale_error * cfg.odom_angular_scale_correction)
+        self.odom = arc_step(self.odom, ds, dtheta)
+        self.odom_velocity = (ds / dt, dtheta / dt)
+
+    def _update_gyro(self, w, dt):
+        """A z-axis gyro: true yaw rate + bias + white noise, integrated."""
+        cfg = self.config
+        rate = w + cfg.gyro_bias
+        if cfg.gyro_noise_density > 0:
+            rate += cfg.gyro_noise_density / math.sqrt(dt) * self._rng.standard_normal()
+        self.gyro_rate = rate
+        self.gyro_yaw = math.remainder(self.gyro_yaw + rate * dt, 2.0 * math.pi)
+
+    def gyro_variances(self, period):
+        """(yaw, yaw rate) variances to report for the gyro at ``period`` s.
+
+        The rate variance is that of one reading plus the bias squared; the
+        yaw variance is the error the integrated yaw gathers in one second.
+        Both have a small floor so they are never zero.
+        """
+        cfg = self.config
+        rate_var = cfg.gyro_noise_density ** 2 / period + cfg.gyro_bias ** 2
+        yaw_var = cfg.gyro_noise_density ** 2 * 1.0 + cfg.gyro_bias ** 2
+        return max(yaw_var, 1e-6), max(rate_var, 1e-6)

@@ -1,0 +1,47 @@
+"""Pacing of a simulation clock against the wall clock (used by nodes/sim_clock.py).
+
+The clock advances simulated time in fixed steps of whole nanoseconds, so
+stamps are exact multiples of the step, and schedules each step at
+``speed`` times real time. When the publisher falls behind (a starved CPU),
+it re-anchors instead of bursting to catch up: simulated time then runs
+slower than asked, but never in steps larger than ``step``.
+The wall time is passed in, so the pacing is testable without sleeping.
+"""
+import math
+
+__all__ = ['ClockPacer', 'MAX_STEP']
+
+MAX_STEP = 0.01  # s of simulated time per tick; nodes see time move smoothly
+
+
+class ClockPacer:
+    """Tick schedule for a clock running at ``speed`` x real time."""
+
+    def __init__(self, speed, step=MAX_STEP, start=0.0, max_lag=0.1):
+        if not (math.isfinite(speed) and speed > 0):
+            raise ValueError('sim speed must be a finite number > 0, got %r' % (speed,))
+        if not (0 < step <= MAX_STEP):
+            raise ValueError('clock step must be in (0, %g] s, got %r' % (MAX_STEP, step))
+        if not (math.isfinite(start) and start >= 0):
+            raise ValueError('start time must be >= 0, got %r' % (start,))
+        self.speed = float(speed)
+        self.step_ns = int(round(step * 1e9))
+        self.max_lag = max_lag         # wall seconds behind before re-anchoring
+        self.sim_ns = int(round(start * 1e9))
+        self._anchor = None            # (wall seconds, sim ns) of the schedule
+
+    def advance(self, wall_now):
+        """Move one step on; return (sim time in ns, wall seconds to wait).
+
+        The caller waits the returned time, then publishes the sim time.
+        """
+        if self._anchor is None:
+            self._anchor = (wall_now, self.sim_ns)
+        self.sim_ns += self.step_ns
+        wall0, sim0 = self._anchor
+        due = wall0 + (self.sim_ns - sim0) * 1e-9 / self.speed
+        wait = due - wall_now
+        if wait < -self.max_lag:
+            self._anchor = (wall_now, self.sim_ns)
+            wait = 0.0
+        return self.sim_ns, max(wait, 0.0)

@@ -1,0 +1,78 @@
+#!/usr/bin/env python3
+"""rostest: the fake TurtleBot survives absurd and non-finite commands.
+
+Speeds of 1e9 are clamped to the limits; a NaN or infinite command is taken
+as a stop (well before the watchdog would act); no input ever makes the
+published pose non-finite. Limits are read from the node's parameters.
+"""
+import math
+import sys
+import unittest
+
+import rospy
+import rostest
+
+from fake_turtlebot_recorder import Recorder, motion_episode, planar, wait_for
+
+PKG = 'rbx1_nav'
+NODE = 'fake_turtlebot/'
+INF, NAN = float('inf'), float('nan')
+
+
+def twists_after(rec, t):
+    """(stamp, v, w) of every odom message stamped after ``t``."""
+    return [(r[0], r[4], r[5]) for r in map(planar, rec.snapshot('odom')) if r[0] > t]
+
+
+class Safety(unittest.TestCase):
+
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node('fake_turtlebot_safety_test')
+        cls.max_v = rospy.get_param(NODE + 'max_linear_speed')
+        cls.max_w = rospy.get_param(NODE + 'max_angular_speed')
+        cls.timeout = rospy.get_param(NODE + 'cmd_timeout')
+        cls.stop_within = rospy.get_param('~stop_within', 0.5)
+        cls.rec = Recorder()
+        assert wait_for(lambda: len(cls.rec.snapshot('odom')) > 5, 30.0), 'no odom'
+
+    def test_1_absurd_speeds_are_clamped(self):
+        sent = self.rec.send(1e9, -1e9)
+        self.assertTrue(self.rec.wait_stopped(sent, 10 * self.timeout + 60.0))
+        k, j = motion_episode(self.rec.snapshot('odom'), sent)
+        odom = self.rec.snapshot('odom')[k:j]
+        self.assertTrue(odom)
+        for v, w in (planar(m)[4:] for m in odom):  # rebuilt from wheel travel
+            self.assertAlmostEqual(v, self.max_v, delta=1e-9)
+            self.assertAlmostEqual(w, -self.max_w, delta=1e-9)
+        moving = {m.header.stamp for m in odom}
+        truth = [planar(m)[4:] for m in self.rec.snapshot('truth')
+                 if m.header.stamp in moving]
+        self.assertTrue(truth)
+        self.assertTrue(all(vw == (self.max_v, -self.max_w) for vw in truth), truth)
+
+    def test_2_non_finite_commands_stop_the_robot_at_once(self):
+        for bad in [(NAN, 0.0), (0.1, INF), (-INF, NAN)]:
+            sent = self.rec.send(0.2, 0.0)
+            self.assertTrue(wait_for(lambda: any(v == 0.2 for _, v, _ in
+                                                 twists_after(self.rec, sent)), 60.0))
+            sent_bad = self.rec.send(*bad)
+            self.assertTrue(wait_for(lambda: any(v == 0.0 for _, v, _ in
+                                                 twists_after(self.rec, sent_bad)), 60.0), bad)
+            stopped = min(t for t, v, _ in twists_after(self.rec, sent_bad) if v == 0.0)
+            # Far sooner than the watchdog (cmd_timeout) would have stopped it.
+            self.assertLess(stopped - sent_bad, self.stop_within, bad)
+            self.assertLess(self.stop_within, self.timeout)
+
+    def test_3_pose_stays_finite_and_node_keeps_running(self):
+        last = rospy.Time.now().to_sec()
+        self.assertTrue(wait_for(lambda: twists_after(self.rec, last), 60.0))
+        for topic in ('odom', 'truth'):
+            msgs = self.rec.snapshot(topic)
+            self.assertTrue(msgs, topic)
+            for m in msgs:
+                self.assertTrue(all(math.isfinite(c) for c in planar(m)), planar(m))
+
+
+if __name__ == '__main__':
+    rostest.rosrun(PKG, 'fake_turtlebot_safety', Safety, sys.argv)

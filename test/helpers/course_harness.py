@@ -1,0 +1,220 @@
+"""Shared plumbing for the out-and-back rostests (imported, not a node).
+
+``CourseProcess`` starts ``odom_out_and_back.py`` the way a user does, with
+``rosrun``, so a test sees its exit status and its log lines.
+``RobotWatch`` follows one robot's ``ground_truth`` (the simulator's true
+pose) and ``cmd_vel`` (what the course commanded), optionally in a namespace.
+Times are ROS times, so under /use_sim_time they are simulated seconds.
+"""
+import signal
+import subprocess
+import threading
+
+import rospy
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
+from rosgraph_msgs.msg import Log
+
+from rbx1_nav.out_and_back import Pose2D, pose_error
+from rbx1_nav.transform_utils import quat_to_angle
+
+WALL_LIMIT = 120.0  # s; a guard so a broken run fails instead of hanging
+
+
+def _join(ns, name):
+    return '%s/%s' % (ns, name) if ns else name
+
+
+def is_zero(twist):
+    """True if a Twist commands no motion at all."""
+    return not any((twist.linear.x, twist.linear.y, twist.linear.z,
+                    twist.angular.x, twist.angular.y, twist.angular.z))
+
+
+class RobotWatch(object):
+    """The latest true pose and every cmd_vel of one (namespaced) robot."""
+
+    def __init__(self, ns=''):
+        self.ns = ns
+        self.lock = threading.Lock()
+        self.truth = None
+        self.commands = []  # (ROS time received, Twist)
+        rospy.Subscriber(_join(ns, 'ground_truth'), Odometry, self._on_truth)
+        rospy.Subscriber(_join(ns, 'cmd_vel'), Twist, self._on_cmd)
+
+    def _on_truth(self, msg):
+        with self.lock:
+            self.truth = msg
+
+    def _on_cmd(self, msg):
+        with self.lock:
+            self.commands.append((rospy.Time.now(), msg))
+
+    def wait_for_truth(self, wall_limit=30.0):
+        """Block until the simulator's first ground_truth arrives."""
+        steps = int(wall_limit / 0.02)
+        for _ in range(steps):
+            if self.truth is not None or rospy.is_shutdown():
+                break
+            rospy.rostime.wallsleep(0.02)
+        if self.truth is None:
+            raise AssertionError('no %s received: is the simulator up?'
+                                 % _join(self.ns, 'ground_truth'))
+        return self.pose()
+
+    def pose(self):
+        """The true pose now, as a Pose2D."""
+        with self.lock:
+            p = self.truth.pose.pose
+        return Pose2D(p.position.x, p.position.y, quat_to_angle(p.orientation))
+
+    def true_speed(self):
+        """(linear, angular) speed of the simulated robot now."""
+        with self.lock:
+            t = self.truth.twist.twist
+        return t.linear.x, t.angular.z
+
+    def moved_since(self, start):
+        """Metres between the true pose now and ``start``."""
+        return pose_error(self.pose(), start)[0]
+
+    def motion_commands(self):
+        """The cmd_vel messages that asked for motion."""
+        with self.lock:
+            return [(t, m) for t, m in self.commands if not is_zero(m)]
+
+    def last_command(self):
+        with self.lock:
+            return self.commands[-1] if self.commands else (None, None)
+
+
+class RosoutWatch(object):
+    """Log lines that nodes send to /rosout, with their ROS time stamps."""
+
+    def __init__(self):
+        self.lock = threading.Lock()
+        self.records = []
+        rospy.Subscriber('/rosout', Log, self._on_log)
+
+    def _on_log(self, msg):
+        with self.lock:
+            self.records.append(msg)
+
+    def find(self, node, text):
+        """The first Log from ``node`` (resolved name) containing ``text``."""
+        with self.lock:
+            for msg in self.records:
+                if msg.name == node and text in msg.msg:
+                    return msg
+        return None
+
+    def stamp_of(self, node, text, wall_limit=10.0):
+        """ROS time of that line, waiting for it to arrive; None if never."""
+        found = []
+        wait_until(lambda: found.append(self.find(node, text)) or found[-1],
+                   wall_limit)
+        return found[-1].header.stamp if found[-1] else None
+
+
+class CourseProcess(object):
+    """odom_out_and_back.py run through rosrun, its output collected."""
+
+    def __init__(self, ns='', params=None, name='odom_out_and_back'):
+        args = ['rosrun', 'rbx1_nav', 'odom_out_and_back.py', '__name:=' + name]
+        self.node_name = '/' + _join(ns.strip('/'), name)
+        if ns:
+            args.append('__ns:=' + ns)
+        for key, value in sorted((params or {}).items()):
+            args.append('_%s:=%s' % (key, value))
+        self.args = args
+        self.lines = []
+        self.exit_time = None
+        self.start_time = rospy.Time.now()
+        self.proc = subprocess.Popen(args, stdout=subprocess.PIPE,
+                                     stderr=subprocess.STDOUT,
+                                     universal_newlines=True)
+        self.reader = threading.Thread(target=self._read)
+        self.reader.daemon = True
+        self.reader.start()
+
+    def _read(self):
+        for line in self.proc.stdout:
+            self.lines.append(line.rstrip())
+
+    @property
+    def output(self):
+        return '\n'.join(self.lines)
+
+    def running(self):
+        return self.proc.poll() is None
+
+    def wait(self, wall_limit=WALL_LIMIT):
+        """Wait for the node to exit; note the ROS time; return its status."""
+        for _ in range(int(wall_limit / 0.01)):
+            if self.proc.poll() is not None:
+                break
+            rospy.rostime.wallsleep(0.01)
+        if self.proc.poll() is None:
+            self.proc.kill()
+            self.proc.wait()
+            raise AssertionError('%s still running after %.0f s wall; killed.'
+                                 '\n%s' % (' '.join(self.args), wall_limit,
+                                           self.output))
+        self.exit_time = rospy.Time.now()
+        self.reader.join(5.0)
+        return self.proc.returncode
+
+    def interrupt(self):
+        """Ctrl-C, as a user at the terminal would."""
+        self.proc.send_signal(signal.SIGINT)
+
+    def cleanup(self):
+        """Kill the node if a failed test left it running."""
+        if self.proc.poll() is None:
+            self.proc.kill()
+            self.proc.wait()
+
+
+def wait_sim(seconds):
+    """Sleep in ROS time (simulated under /use_sim_time)."""
+    rospy.sleep(rospy.Duration(seconds))
+
+
+def wait_until(predicate, wall_limit=WALL_LIMIT):
+    """Poll ``predicate`` until true; False if it never was."""
+    for _ in range(int(wall_limit / 0.01)):
+        if predicate():
+            return True
+        rospy.rostime.wallsleep(0.01)
+    return False
+
+
+def check_completed_course(test, watch, course, start, expected_end=None):
+    """Assert the course exited 0 and left the robot stopped near its goal.
+
+    Tolerances come from the test's private parameters
+    ~position_tolerance (m) and ~heading_tolerance (deg). Returns the
+    (position error m, heading error deg) measured on ground_truth.
+    """
+    import math
+    position_tolerance = float(rospy.get_param('~position_tolerance'))
+    heading_tolerance = float(rospy.get_param('~heading_tolerance'))
+    status = course.wait()
+    test.assertEqual(status, 0, 'course exited %s:\n%s' % (status, course.output))
+    test.assertIn('Course complete', course.output)
+    wait_sim(0.5)  # let the last stop reach the simulator
+    dist, heading = pose_error(watch.pose(), expected_end or start)
+    heading = math.degrees(heading)
+    rospy.loginfo('%s: final true pose error %.1f mm, %.2f deg (limits %.1f mm, '
+                  '%.2f deg)', watch.ns or 'robot', 1000 * dist, heading,
+                  1000 * position_tolerance, heading_tolerance)
+    print('RESULT %s position_error_mm=%.2f heading_error_deg=%.3f'
+          % (watch.ns or 'robot', 1000 * dist, heading))
+    why = '\nnode output:\n' + course.output
+    test.assertLess(dist, position_tolerance, why)
+    test.assertLess(abs(heading), heading_tolerance, why)
+    test.assertEqual(watch.true_speed(), (0.0, 0.0), 'robot still moving')
+    stamp, last = watch.last_command()
+    test.assertTrue(last is not None and is_zero(last),
+                    'last cmd_vel was not a stop: %s' % last)
+    return dist, heading

@@ -1,0 +1,54 @@
+#!/usr/bin/env python3
+"""No robot at all: the node must give up cleanly without moving.
+
+Run by out_and_back_no_tf.test: a simulated clock but no simulator, so no
+odom -> base transform ever appears. Expect an error naming the frames
+tried and what publishes them ~tf_wait seconds (ROS time, within ~grace)
+after the node starts waiting, exit status 1, and not one motion command
+on cmd_vel. Times come from the stamps of the node's /rosout lines, so
+process start-up and teardown (wall time) do not count.
+"""
+import os
+import sys
+import unittest
+
+import rospy
+import rostest
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), 'helpers'))
+from course_harness import (CourseProcess, RobotWatch,  # noqa: E402
+                            RosoutWatch)
+
+
+class NoTfTest(unittest.TestCase):
+
+    def test_gives_up_with_a_clear_error_and_never_moves(self):
+        tf_wait = float(rospy.get_param('~tf_wait'))
+        grace = float(rospy.get_param('~grace'))
+        watch = RobotWatch()
+        rosout = RosoutWatch()
+        course = CourseProcess(params={'tf_wait': tf_wait})
+        try:
+            status = course.wait()
+        finally:
+            course.cleanup()
+        out = course.output
+        self.assertEqual(status, 1, out)
+        began = rosout.stamp_of(course.node_name, 'Waiting up to')
+        gave_up = rosout.stamp_of(course.node_name, 'no transform')
+        self.assertIsNotNone(began, out)
+        self.assertIsNotNone(gave_up, out)
+        waited = (gave_up - began).to_sec()
+        print('RESULT no_tf exit=%d, gave up %.2f s (ROS time) after it '
+              'began waiting' % (status, waited))
+        self.assertGreaterEqual(waited, tf_wait)
+        self.assertLess(waited, tf_wait + grace, out)
+        self.assertIn('no transform from odom to base_footprint or base_link', out)
+        self.assertIn('fake_turtlebot.launch', out)
+        self.assertIn('driver', out)
+        self.assertEqual(watch.motion_commands(), [])
+
+
+if __name__ == '__main__':
+    rospy.init_node('out_and_back_no_tf_test')
+    rostest.rosrun('rbx1_nav', 'out_and_back_no_tf', NoTfTest)

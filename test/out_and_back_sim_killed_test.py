@@ -1,0 +1,62 @@
+#!/usr/bin/env python3
+"""The simulator dies mid-course: the node must notice, stop and exit 1.
+
+Run by out_and_back_sim_killed.test. Once the robot is well into its first
+leg the test kills the fake robot (the clock keeps running). The tf then
+goes stale; within ~tf_timeout + 1 s (ROS time) of the simulator's last
+message the node must have sent a stop and logged the error, and it must
+then exit with status 1. The deadline is checked on ROS time stamps (the
+stop's arrival, the error's /rosout stamp): rospy's own teardown after
+that takes a fixed ~0.6 s of wall time, which at 5x would be 3 simulated
+seconds and says nothing about the node's reaction.
+"""
+import os
+import subprocess
+import sys
+import unittest
+
+import rospy
+import rostest
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), 'helpers'))
+from course_harness import (CourseProcess, RobotWatch,  # noqa: E402
+                            RosoutWatch, is_zero, wait_until)
+
+
+class SimKilledTest(unittest.TestCase):
+
+    def test_stale_tf_stops_the_course(self):
+        tf_timeout = float(rospy.get_param('~tf_timeout'))
+        watch = RobotWatch()
+        rosout = RosoutWatch()
+        start = watch.wait_for_truth()
+        course = CourseProcess(params={'tf_timeout': tf_timeout})
+        try:
+            self.assertTrue(wait_until(lambda: watch.moved_since(start) > 0.3
+                                       or not course.running()),
+                            'robot never moved')
+            self.assertTrue(course.running(), course.output)
+            subprocess.check_call(['rosnode', 'kill', '/fake_turtlebot'])
+            status = course.wait()
+        finally:
+            course.cleanup()
+        out = course.output
+        last_truth = watch.truth.header.stamp
+        error_at = rosout.stamp_of(course.node_name, 'has not been updated')
+        self.assertIsNotNone(error_at, out)
+        stop_at, last = watch.last_command()
+        print('RESULT sim_killed exit=%d; after the last ground_truth: error '
+              'logged at +%.2f s, last (zero) cmd_vel at +%.2f s, process gone '
+              'at +%.2f s (ROS time)' % (
+                  status, (error_at - last_truth).to_sec(),
+                  (stop_at - last_truth).to_sec(),
+                  (course.exit_time - last_truth).to_sec()))
+        self.assertEqual(status, 1, out)
+        self.assertTrue(is_zero(last), 'last cmd_vel was %s' % last)
+        self.assertGreater(stop_at, last_truth, 'no stop sent after the sim died')
+        self.assertLess((error_at - last_truth).to_sec(), tf_timeout + 1.0, out)
+        self.assertLess((stop_at - last_truth).to_sec(), tf_timeout + 1.0, out)
+
+if __name__ == '__main__':
+    rospy.init_node('out_and_back_sim_killed_test')
+    rostest.rosrun('rbx1_nav', 'out_and_back_sim_killed', SimKilledTest)

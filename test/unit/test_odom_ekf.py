@@ -1,0 +1,149 @@
+"""Unit tests for rbx1_nav.odom_ekf (no ROS master needed)."""
+import copy
+import math
+
+import pytest
+
+geometry_msgs = pytest.importorskip('geometry_msgs.msg')
+rospy_time = pytest.importorskip('genpy')
+
+from rbx1_nav.odom_ekf import (UNKNOWN_VARIANCE, PoseToOdometry,  # noqa: E402
+                               strip_leading_slash)
+
+
+def make_pose(x=1.0, y=2.0, yaw=0.5, t=10.0, frame='odom', cov=None, seq=7):
+    msg = geometry_msgs.PoseWithCovarianceStamped()
+    msg.header.seq = seq
+    msg.header.stamp = rospy_time.Time.from_sec(t)
+    msg.header.frame_id = frame
+    msg.pose.pose.position.x = x
+    msg.pose.pose.position.y = y
+    msg.pose.pose.position.z = 0.25
+    msg.pose.pose.orientation.z = math.sin(yaw / 2.0)
+    msg.pose.pose.orientation.w = math.cos(yaw / 2.0)
+    msg.pose.covariance = cov if cov is not None else [
+        0.1 * i + 0.001 for i in range(36)]
+    return msg
+
+
+def test_fields_map_one_to_one():
+    msg = make_pose()
+    odom = PoseToOdometry().convert(msg)
+    assert odom.header.seq == 7
+    assert odom.header.stamp == msg.header.stamp
+    assert odom.header.frame_id == 'odom'
+    assert odom.child_frame_id == 'base_footprint'
+    assert odom.pose.pose == msg.pose.pose
+    assert odom.pose.pose is not msg.pose.pose
+
+
+def test_all_36_covariance_entries_copied_exactly():
+    cov = [math.pi * (i - 17) ** 3 + 1e-300 for i in range(36)]
+    odom = PoseToOdometry().convert(make_pose(cov=tuple(cov)))
+    assert list(odom.pose.covariance) == cov
+
+
+@pytest.mark.parametrize('frame,expected', [
+    ('/odom_combined', 'odom_combined'), ('//odom', 'odom'),
+    ('odom', 'odom'), ('', 'odom')])
+def test_frame_slash_stripped_and_default(frame, expected):
+    assert PoseToOdometry().convert(make_pose(frame=frame)).header.frame_id \
+        == expected
+
+
+def test_frame_parameters_override_and_are_stripped():
+    conv = PoseToOdometry(frame_id='/map', child_frame_id='/base_link')
+    odom = conv.convert(make_pose(frame='odom_combined'))
+    assert (odom.header.frame_id, odom.child_frame_id) == ('map', 'base_link')
+    assert strip_leading_slash('/a/b') == 'a/b'
+
+
+def test_input_is_not_mutated():
+    msg = make_pose(frame='/odom')
+    before = copy.deepcopy(msg)
+    conv = PoseToOdometry(estimate_twist=True)
+    conv.convert(msg)
+    conv.convert(msg)
+    assert msg == before
+
+
+@pytest.mark.parametrize('field', ['x', 'y', 'z'])
+@pytest.mark.parametrize('bad', [float('nan'), float('inf')])
+def test_non_finite_position_is_dropped(field, bad):
+    msg = make_pose()
+    setattr(msg.pose.pose.position, field, bad)
+    with pytest.raises(ValueError, match='NaN or infinite'):
+        PoseToOdometry().convert(msg)
+
+
+def test_nan_orientation_covariance_and_zero_quaternion_are_dropped():
+    conv = PoseToOdometry()
+    msg = make_pose()
+    msg.pose.pose.orientation.w = float('nan')
+    with pytest.raises(ValueError):
+        conv.convert(msg)
+    msg = make_pose(cov=[0.0] * 35 + [float('nan')])
+    with pytest.raises(ValueError, match='covariance'):
+        conv.convert(msg)
+    msg = make_pose()
+    msg.pose.pose.orientation.z = msg.pose.pose.orientation.w = 0.0
+    with pytest.raises(ValueError, match='quaternion'):
+        conv.convert(msg)
+
+
+def test_dropped_pose_does_not_break_the_twist_estimate():
+    conv = PoseToOdometry()
+    conv.convert(make_pose(x=0.0, y=0.0, yaw=0.0, t=1.0))
+    bad = make_pose(x=float('nan'), t=1.5)
+    with pytest.raises(ValueError):
+        conv.convert(bad)
+    odom = conv.convert(make_pose(x=1.0, y=0.0, yaw=0.0, t=2.0))
+    assert odom.twist.twist.linear.x == pytest.approx(1.0)
+
+
+def test_first_twist_is_zero_and_unknown():
+    odom = PoseToOdometry().convert(make_pose())
+    t = odom.twist.twist
+    assert (t.linear.x, t.linear.y, t.angular.z) == (0.0, 0.0, 0.0)
+    assert [odom.twist.covariance[7 * i] for i in range(6)] == \
+        [UNKNOWN_VARIANCE] * 6
+
+
+def test_twist_estimated_in_body_frame():
+    conv = PoseToOdometry(twist_variance=0.02)
+    # Heading +90 degrees, moving +y in the odom frame = forward in the body.
+    conv.convert(make_pose(x=0.0, y=0.0, yaw=math.pi / 2, t=1.0))
+    odom = conv.convert(make_pose(x=0.0, y=0.5, yaw=math.pi / 2 + 0.2, t=1.5))
+    t = odom.twist.twist
+    assert t.linear.x == pytest.approx(1.0, rel=0.02)
+    assert t.linear.y == pytest.approx(0.0, abs=0.11)
+    assert t.angular.z == pytest.approx(0.4)
+    assert odom.twist.covariance[0] == 0.02
+    assert odom.twist.covariance[35] == 0.02
+    assert odom.twist.covariance[14] == UNKNOWN_VARIANCE
+
+
+def test_twist_across_the_pi_wrap():
+    conv = PoseToOdometry()
+    conv.convert(make_pose(x=0.0, y=0.0, yaw=math.pi - 0.05, t=1.0))
+    odom = conv.convert(make_pose(x=0.0, y=0.0, yaw=-math.pi + 0.05, t=1.1))
+    assert odom.twist.twist.angular.z == pytest.approx(1.0)
+
+
+def test_twist_disabled_or_stamp_not_advancing_gives_unknown_zero():
+    conv = PoseToOdometry(estimate_twist=False)
+    conv.convert(make_pose(x=0.0, t=1.0))
+    odom = conv.convert(make_pose(x=1.0, t=2.0))
+    assert odom.twist.twist.linear.x == 0.0
+    assert odom.twist.covariance[0] == UNKNOWN_VARIANCE
+    conv = PoseToOdometry()
+    conv.convert(make_pose(x=0.0, t=2.0))
+    odom = conv.convert(make_pose(x=1.0, t=2.0))
+    assert odom.twist.twist.linear.x == 0.0
+    assert odom.twist.covariance[0] == UNKNOWN_VARIANCE
+
+
+@pytest.mark.parametrize('bad', [0.0, -1.0, float('nan')])
+def test_bad_twist_variance_is_rejected(bad):
+    with pytest.raises(ValueError, match='twist_variance'):
+        PoseToOdometry(twist_variance=bad)

@@ -1,0 +1,277 @@
+"""Unit tests for rbx1_nav.pose_ekf, the planar gyro + wheel filter."""
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, strategies as st
+
+from rbx1_nav.pose_ekf import (GyroOdomFusion, PlanarEkf, SensorWatch,
+                               covariance_6x6, odom_increment,
+                               pose_covariance_3x3)
+from rbx1_nav.transform_utils import normalize_angle
+
+ODOM_COV = np.diag([1e-4, 1e-4, 1e-2])   # wheels: poor yaw
+GYRO_VAR = 1e-5                          # gyro: good yaw
+
+
+def compose(pose, inc):
+    x, y, yaw = pose
+    c, s = math.cos(yaw), math.sin(yaw)
+    return (x + c * inc[0] - s * inc[1], y + s * inc[0] + c * inc[1],
+            normalize_angle(yaw + inc[2]))
+
+
+# --- helpers -----------------------------------------------------------------
+
+coord = st.floats(-50, 50)
+angle = st.floats(-math.pi, math.pi)
+
+
+@given(st.tuples(coord, coord, angle), st.tuples(coord, coord, angle))
+def test_increment_composes_back_to_the_current_pose(prev, cur):
+    got = compose(prev, odom_increment(prev, cur))
+    assert got[0] == pytest.approx(cur[0], abs=1e-9)
+    assert got[1] == pytest.approx(cur[1], abs=1e-9)
+    assert abs(normalize_angle(got[2] - cur[2])) < 1e-9
+
+
+def test_increment_is_in_the_body_frame():
+    inc = odom_increment((1.0, 1.0, math.pi / 2), (1.0, 3.0, math.pi / 2))
+    assert inc == pytest.approx((2.0, 0.0, 0.0), abs=1e-12)
+
+
+def test_covariance_block_round_trip():
+    cov3 = np.array([[1.0, 0.1, 0.2], [0.1, 2.0, 0.3], [0.2, 0.3, 3.0]])
+    cov36 = covariance_6x6(cov3)
+    assert len(cov36) == 36
+    assert np.array_equal(pose_covariance_3x3(cov36), cov3)
+    assert cov36[35] == 3.0 and cov36[5] == 0.2 and cov36[30] == 0.2
+
+
+# --- PlanarEkf ---------------------------------------------------------------
+
+def test_prediction_alone_grows_covariance_and_measurement_shrinks_it():
+    ekf = PlanarEkf((0.0, 0.0, 0.0), np.diag([1e-3, 1e-3, 1e-3]))
+    before = ekf.cov.copy()
+    ekf.predict((0.1, 0.0, 0.05), ODOM_COV)
+    predicted = ekf.cov.copy()
+    assert np.all(np.diag(predicted) > np.diag(before))
+    assert np.linalg.det(predicted) > np.linalg.det(before)
+    ekf.update_yaw_increment(0.05, GYRO_VAR)
+    assert ekf.cov[2, 2] < predicted[2, 2]
+    assert np.linalg.det(ekf.cov) < np.linalg.det(predicted)
+    assert np.all(np.linalg.eigvalsh(ekf.cov) > 0)
+
+
+def test_gyro_update_is_the_variance_weighted_increment():
+    p0 = 0.02
+    ekf = PlanarEkf((0.0, 0.0, 0.3), np.diag([1e-3, 1e-3, p0]))
+    var_o, var_i, d_o, d_i = 0.01, 0.0025, 0.2, 0.1
+    ekf.predict((0.0, 0.0, d_o), np.diag([1e-4, 1e-4, var_o]))
+    ekf.update_yaw_increment(d_i, var_i)
+    fused = (d_o * var_i + d_i * var_o) / (var_o + var_i)
+    assert ekf.pose[2] == pytest.approx(0.3 + fused)
+    # The earlier uncertainty p0 is not "re-measured": only the step's is cut.
+    assert ekf.cov[2, 2] == pytest.approx(p0 + var_o * var_i / (var_o + var_i))
+
+
+def test_update_without_an_anchor_is_an_error():
+    ekf = PlanarEkf((0, 0, 0), np.eye(3))
+    ekf.drop_anchor()
+    with pytest.raises(RuntimeError):
+        ekf.update_yaw_increment(0.1, 1e-3)
+
+
+def test_gyro_change_over_several_steps_is_fused_once():
+    ekf = PlanarEkf((0.0, 0.0, 0.0), np.diag([1e-3, 1e-3, 1e-3]))
+    for _ in range(3):  # three wheel steps of 0.1 rad, variance 0.01 each
+        ekf.predict((0.1, 0.0, 0.1), np.diag([1e-4, 1e-4, 0.01]))
+    ekf.update_yaw_increment(0.24, 0.01)  # one gyro reading for all three
+    assert ekf.pose[2] == pytest.approx((0.3 * 0.01 + 0.24 * 0.03) / 0.04)
+
+
+def test_yaw_wraps_across_pi():
+    ekf = PlanarEkf((0.0, 0.0, math.pi - 0.05), np.eye(3) * 1e-3)
+    ekf.predict((0.0, 0.0, 0.1), ODOM_COV)
+    ekf.update_yaw_increment(0.1, GYRO_VAR)
+    assert ekf.pose[2] == pytest.approx(-math.pi + 0.05)
+
+
+# --- SensorWatch -------------------------------------------------------------
+
+def test_sensor_watch_transitions():
+    w = SensorWatch('imu', 1.0)
+    assert w.check(0.0) is None and not w.active
+    w.seen(0.5)
+    assert w.check(0.6) == 'started'
+    assert w.check(1.4) is None
+    assert w.check(1.6) == 'lost' and not w.active
+    w.seen(3.0)
+    assert w.check(3.0) == 'back' and w.active
+
+
+# --- GyroOdomFusion ----------------------------------------------------------
+
+class Robot(object):
+    """A scripted differential-drive robot feeding a GyroOdomFusion."""
+
+    def __init__(self, fusion, angular_scale=1.0, rate=30.0, start=(0, 0, 0)):
+        self.fusion = fusion
+        self.truth = tuple(float(v) for v in start)
+        self.odom = self.truth
+        self.gyro_yaw = 1.0  # the gyro's own zero differs from odom's
+        self.scale = angular_scale
+        self.dt = 1.0 / rate
+        self.t = 0.0
+        self.events = []
+
+    def run(self, seconds, v=0.0, w=0.0, odom=True, imu=True):
+        for _ in range(int(round(seconds / self.dt))):
+            self.t += self.dt
+            inc = (v * self.dt, 0.0, w * self.dt)
+            self.truth = compose(self.truth, inc)
+            self.odom = compose(self.odom, (inc[0], 0.0, inc[2] * self.scale))
+            self.gyro_yaw = normalize_angle(self.gyro_yaw + inc[2])
+            if odom:
+                self.fusion.add_odom(self.t, self.t, self.odom, ODOM_COV)
+            if imu:
+                self.fusion.add_imu(self.t, self.t, self.gyro_yaw, GYRO_VAR)
+            self.events += self.fusion.step(self.t)
+
+    def out_and_back(self):
+        for _ in range(2):
+            self.run(2.0, v=0.5)
+            self.run(math.pi, w=1.0)
+
+
+def yaw_error(a, b):
+    return abs(normalize_angle(a - b))
+
+
+def test_starts_at_the_first_odometry():
+    fusion = GyroOdomFusion()
+    assert fusion.step(0.0) == [] and fusion.estimate is None
+    fusion.add_imu(0.0, 0.0, 0.7, GYRO_VAR)
+    fusion.step(0.0)
+    assert fusion.estimate is None  # no odometry yet
+    fusion.add_odom(0.1, 0.1, (1.0, -2.0, 0.5), ODOM_COV)
+    events = fusion.step(0.1)
+    stamp, pose, cov = fusion.estimate
+    assert stamp == 0.1 and pose == pytest.approx((1.0, -2.0, 0.5))
+    assert np.allclose(cov, ODOM_COV)
+    assert any('started' in text for _, text in events)
+
+
+def test_stationary_robot_stays_put_despite_gyro_drift():
+    fusion = GyroOdomFusion()
+    robot = Robot(fusion, start=(0.3, 0.4, 2.0))
+    robot.run(1.0)
+    cov_start = fusion.estimate[2]
+    for _ in range(600):  # 20 s at rest; the gyro drifts 0.001 rad/s
+        robot.gyro_yaw += 0.001 / 30.0
+        robot.run(1.0 / 30.0)
+    _, pose, cov = fusion.estimate
+    assert pose == pytest.approx((0.3, 0.4, 2.0), abs=1e-4)  # drift: 0.02
+    assert np.allclose(cov, cov_start, atol=1e-6)
+
+
+def test_gyro_corrects_a_wheel_angular_scale_error():
+    raw = Robot(GyroOdomFusion(imu_used=False), angular_scale=1.05)
+    fused = Robot(GyroOdomFusion(), angular_scale=1.05)
+    raw.out_and_back()
+    fused.out_and_back()
+    raw_err = yaw_error(raw.fusion.estimate[1][2], raw.truth[2])
+    fused_err = yaw_error(fused.fusion.estimate[1][2], fused.truth[2])
+    assert raw_err == pytest.approx(0.1 * math.pi, rel=0.02)  # 2 x 5% of pi
+    assert fused_err < 0.1 * raw_err
+    # The fused covariance is smaller in yaw: the gyro was fused.
+    assert fused.fusion.estimate[2][2, 2] < raw.fusion.estimate[2][2, 2]
+
+
+def test_odom_only_reproduces_odometry():
+    robot = Robot(GyroOdomFusion(imu_used=False), angular_scale=1.05)
+    robot.out_and_back()
+    assert robot.fusion.estimate[1] == pytest.approx(robot.odom, abs=1e-9)
+
+
+def test_imu_only_follows_the_gyro_and_keeps_position():
+    robot = Robot(GyroOdomFusion(odom_used=False), angular_scale=1.05)
+    robot.run(1.0)
+    robot.run(2.0, v=0.2, w=0.5)
+    _, (x, y, yaw), cov = robot.fusion.estimate
+    assert (x, y) == (0.0, 0.0)
+    assert yaw == pytest.approx(1.0, abs=1e-3)  # turned 0.5 rad/s for 2 s
+    assert cov[0, 0] > 1.0  # position unknown without odometry
+
+
+def test_odom_messages_are_ignored_when_not_used():
+    fusion = GyroOdomFusion(odom_used=False)
+    fusion.add_odom(0.0, 0.0, (5.0, 5.0, 1.0), ODOM_COV)
+    fusion.step(0.0)
+    assert fusion.estimate is None
+
+
+def test_imu_timeout_is_dropped_and_retaken():
+    robot = Robot(GyroOdomFusion(sensor_timeout=0.5), angular_scale=1.05)
+    robot.run(1.0)
+    cov_with_gyro = robot.fusion.estimate[2][2, 2]
+    robot.run(2.0, w=0.5, imu=False)
+    lost = [t for level, t in robot.events if 'imu timed out' in t]
+    assert len(lost) == 1 and robot.events[-1][0] == 'warn'
+    # Without the gyro the filter followed the wheels (5% too much turn)...
+    wheel_turn = 1.0 * 1.05
+    assert robot.fusion.estimate[1][2] == pytest.approx(wheel_turn, rel=0.05)
+    # ...and its yaw variance grew by the wheels' much larger variance.
+    assert robot.fusion.estimate[2][2, 2] > cov_with_gyro + 0.5 * ODOM_COV[2, 2]
+    robot.gyro_yaw += 2.0  # the gyro comes back from a driver restart
+    robot.run(1.0, w=0.5)
+    back = [(lvl, t) for lvl, t in robot.events if 'imu is back' in t]
+    assert back and back[0][0] == 'info'
+    # The jump while away is not fused; the last second follows the gyro.
+    assert robot.fusion.estimate[1][2] == pytest.approx(wheel_turn + 0.5,
+                                                        abs=0.03)
+
+
+def test_odom_timeout_is_dropped_and_retaken():
+    robot = Robot(GyroOdomFusion(sensor_timeout=0.5))
+    robot.run(1.0, v=0.5)
+    robot.run(2.0, v=0.5, w=0.5, odom=False)
+    assert any('odom timed out' in t for _, t in robot.events)
+    _, (x, y, yaw), cov = robot.fusion.estimate
+    assert yaw == pytest.approx(1.0, abs=0.01)  # gyro kept the heading
+    assert cov[0, 0] > 1.0  # no wheels: position unknown
+    robot.odom = (100.0, 100.0, 3.0)  # odometry restarts somewhere else
+    robot.run(1.0, v=0.5)
+    assert any('odom is back' in t for _, t in robot.events)
+    _, (x2, y2, _), _ = robot.fusion.estimate
+    assert math.hypot(x2 - x, y2 - y) == pytest.approx(0.5, abs=0.05)
+
+
+def test_no_sensor_no_update():
+    robot = Robot(GyroOdomFusion(sensor_timeout=0.5))
+    robot.run(1.0)
+    robot.run(0.3, odom=False, imu=False)
+    assert not robot.fusion.updated  # nothing new: nothing to publish
+    stamp = robot.fusion.estimate[0]
+    robot.run(2.0, odom=False, imu=False)
+    assert robot.fusion.estimate[0] == stamp
+
+
+@pytest.mark.parametrize('bad', [float('nan'), float('inf')])
+def test_non_finite_input_is_rejected(bad):
+    fusion = GyroOdomFusion()
+    with pytest.raises(ValueError):
+        fusion.add_odom(0.0, 0.0, (bad, 0.0, 0.0), ODOM_COV)
+    with pytest.raises(ValueError):
+        fusion.add_odom(0.0, 0.0, (0.0, 0.0, 0.0), np.diag([bad, 1, 1]))
+    with pytest.raises(ValueError):
+        fusion.add_imu(0.0, 0.0, bad, GYRO_VAR)
+    with pytest.raises(ValueError):
+        fusion.add_imu(0.0, 0.0, 0.0, -1.0)
+    fusion.step(0.0)
+    assert fusion.estimate is None
+
+
+def test_needs_at_least_one_sensor():
+    with pytest.raises(ValueError):
+        GyroOdomFusion(odom_used=False, imu_used=False)

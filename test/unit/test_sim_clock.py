@@ -1,0 +1,42 @@
+"""Unit tests for rbx1_nav.sim_clock.ClockPacer, with a fake wall clock."""
+import pytest
+
+from rbx1_nav.sim_clock import ClockPacer
+
+
+def run(pacer, ticks, wall=100.0, extra_delay=0.0):
+    """Follow the pacer like the node does; return (sim ns list, wall end)."""
+    sims = []
+    for _ in range(ticks):
+        sim_ns, wait = pacer.advance(wall)
+        wall += wait + extra_delay
+        sims.append(sim_ns)
+    return sims, wall
+
+
+@pytest.mark.parametrize('speed', [0.5, 1.0, 20.0])
+def test_sim_time_runs_at_speed_in_exact_steps(speed):
+    pacer = ClockPacer(speed, step=0.01, start=2.0)
+    sims, wall_end = run(pacer, 1000)
+    assert sims[0] == 2_010_000_000
+    assert set(b - a for a, b in zip(sims, sims[1:])) == {10_000_000}
+    sim_elapsed = (sims[-1] - 2_000_000_000) * 1e-9
+    assert sim_elapsed / (wall_end - 100.0) == pytest.approx(speed, rel=1e-6)
+
+
+def test_falling_behind_slows_the_clock_instead_of_bursting():
+    pacer = ClockPacer(20.0, step=0.01)
+    # Each publish costs 5 ms of wall time, ten times the 0.5 ms budget.
+    sims, wall_end = run(pacer, 200, extra_delay=0.005)
+    assert set(b - a for a, b in zip(sims, sims[1:])) == {10_000_000}
+    assert sims[-1] * 1e-9 / (wall_end - 100.0) == pytest.approx(2.0, rel=0.01)
+    # After a long stall it re-anchors: no burst, then one step per 0.5 ms.
+    assert pacer.advance(wall_end + 1.0)[1] == 0.0
+    assert pacer.advance(wall_end + 1.0)[1] == pytest.approx(0.0005)
+
+
+@pytest.mark.parametrize('args', [(0.0,), (float('inf'),), (-1.0,), (1.0, 0.02),
+                                  (1.0, 0.0), (1.0, 0.01, -5.0)])
+def test_invalid_settings_are_rejected(args):
+    with pytest.raises(ValueError):
+        ClockPacer(*args)
