@@ -22,8 +22,8 @@ from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu, JointState
 
 from rbx1_nav.diff_drive import (DEFAULT_COVARIANCE_DIAGONAL, DiffDriveConfig,
-                                 DiffDriveSim, covariance_from_diagonal,
-                                 yaw_to_quaternion)
+                                 DiffDriveSim, covariance_from_diagonal)
+from rbx1_nav.transform_utils import strip_leading_slash, yaw_to_quaternion
 
 WARN_PERIOD = 5.0  # s between repeats of the same warning
 MAX_CATCH_UP = 1.0  # s of ROS time the loop replays step by step when late
@@ -31,7 +31,7 @@ MAX_CATCH_UP = 1.0  # s of ROS time the loop replays step by step when late
 
 def frame_param(name, default):
     """A frame id parameter without the leading '/' that tf2 rejects."""
-    return str(rospy.get_param(name, default)).lstrip('/')
+    return strip_leading_slash(rospy.get_param(name, default))
 
 
 def model_config():

@@ -29,7 +29,8 @@ from rosgraph_msgs.msg import Clock
 
 from rbx1_nav.out_and_back import (CourseConfig, OutAndBack, Pose2D,
                                    expected_end_pose, pose_error)
-from rbx1_nav.transform_utils import normalize_angle, quat_to_angle
+from rbx1_nav.transform_utils import (normalize_angle, quat_to_angle,
+                                      strip_leading_slash)
 
 BASE_FRAME_CANDIDATES = ('base_footprint', 'base_link')
 
@@ -63,7 +64,7 @@ def _frame(name, default):
     value = rospy.get_param('~' + name, default)
     if not isinstance(value, str):
         raise ValueError('~%s must be a frame id string, got %r' % (name, value))
-    return value.strip().lstrip('/')
+    return strip_leading_slash(value.strip())
 
 
 def read_settings():

@@ -25,11 +25,10 @@ from geometry_msgs.msg import (PoseWithCovarianceStamped, Quaternion,
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu
 
-from rbx1_nav.diff_drive import yaw_to_quaternion
-from rbx1_nav.odom_ekf import strip_leading_slash
 from rbx1_nav.pose_ekf import (GyroOdomFusion, covariance_6x6,
                                pose_covariance_3x3)
-from rbx1_nav.transform_utils import quat_to_angle
+from rbx1_nav.transform_utils import (quat_to_angle, strip_leading_slash,
+                                      yaw_to_quaternion)
 
 
 class PoseEkfNode(object):

@@ -27,7 +27,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 __all__ = ['Pose2D', 'DiffDriveConfig', 'DiffDriveSim', 'arc_step',
-           'yaw_to_quaternion', 'covariance_from_diagonal',
+           'covariance_from_diagonal',
            'DEFAULT_COVARIANCE_DIAGONAL']
 
 # x, y, z, roll, pitch, yaw. A planar base observes only x, y and yaw; the
@@ -57,11 +57,6 @@ def arc_step(pose, ds, dtheta):
     return Pose2D(pose.x + chord * math.cos(heading),
                   pose.y + chord * math.sin(heading),
                   math.remainder(pose.theta + dtheta, 2.0 * math.pi))
-
-
-def yaw_to_quaternion(yaw):
-    """(x, y, z, w) of the rotation by ``yaw`` radians about z."""
-    return (0.0, 0.0, math.sin(0.5 * yaw), math.cos(0.5 * yaw))
 
 
 def covariance_from_diagonal(diagonal):

@@ -12,17 +12,13 @@ import math
 from nav_msgs.msg import Odometry
 
 from rbx1_nav.diff_drive import covariance_from_diagonal
-from rbx1_nav.transform_utils import normalize_angle, quat_to_angle
+from rbx1_nav.transform_utils import (normalize_angle, quat_to_angle,
+                                      strip_leading_slash)
 
-__all__ = ['PoseToOdometry', 'strip_leading_slash', 'UNKNOWN_VARIANCE']
+__all__ = ['PoseToOdometry', 'UNKNOWN_VARIANCE']
 
 #: Variance that marks a twist component as unknown (the common ROS idiom).
 UNKNOWN_VARIANCE = 1e6
-
-
-def strip_leading_slash(frame_id):
-    """``frame_id`` without leading slashes (tf2 rejects them)."""
-    return frame_id.lstrip('/')
 
 
 def _check_finite(msg):

@@ -1,11 +1,13 @@
-"""Angle helpers for planar robots: yaw of a quaternion and angle wrapping.
+"""Angle and frame helpers for planar robots: yaw <-> quaternion, angle
+wrapping, and tf2-style frame ids.
 
 Pure Python (no rospy, no PyKDL) so the out-and-back logic and its tests can
 use it without a ROS installation.
 """
 import math
 
-__all__ = ['quat_to_angle', 'normalize_angle']
+__all__ = ['quat_to_angle', 'yaw_to_quaternion', 'normalize_angle',
+           'strip_leading_slash']
 
 
 def _quat_components(q):
@@ -52,3 +54,13 @@ def normalize_angle(angle):
         raise ValueError('cannot normalise a non-finite angle: %r' % angle)
     # math.remainder is exact (IEEE remainder), so this also holds for 1e300.
     return math.remainder(angle, 2.0 * math.pi)
+
+
+def yaw_to_quaternion(yaw):
+    """(x, y, z, w) of the rotation by ``yaw`` radians about z."""
+    return (0.0, 0.0, math.sin(0.5 * yaw), math.cos(0.5 * yaw))
+
+
+def strip_leading_slash(frame_id):
+    """``frame_id`` without leading slashes (tf2 rejects them)."""
+    return str(frame_id).lstrip('/')

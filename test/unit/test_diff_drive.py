@@ -6,9 +6,8 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from rbx1_nav.diff_drive import (DiffDriveConfig, DiffDriveSim, Pose2D,
-                                 arc_step, covariance_from_diagonal,
-                                 yaw_to_quaternion)
-from rbx1_nav.transform_utils import quat_to_angle
+                                 arc_step, covariance_from_diagonal)
+from rbx1_nav.transform_utils import quat_to_angle, yaw_to_quaternion
 
 RATE = 50.0
 

@@ -7,8 +7,8 @@ import pytest
 geometry_msgs = pytest.importorskip('geometry_msgs.msg')
 rospy_time = pytest.importorskip('genpy')
 
-from rbx1_nav.odom_ekf import (UNKNOWN_VARIANCE, PoseToOdometry,  # noqa: E402
-                               strip_leading_slash)
+from rbx1_nav.odom_ekf import UNKNOWN_VARIANCE, PoseToOdometry  # noqa: E402
+from rbx1_nav.transform_utils import strip_leading_slash  # noqa: E402
 
 
 def make_pose(x=1.0, y=2.0, yaw=0.5, t=10.0, frame='odom', cov=None, seq=7):

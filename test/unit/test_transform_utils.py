@@ -5,7 +5,8 @@ from types import SimpleNamespace
 import pytest
 from hypothesis import given, strategies as st
 
-from rbx1_nav.transform_utils import normalize_angle, quat_to_angle
+from rbx1_nav.transform_utils import (normalize_angle, quat_to_angle,
+                                      strip_leading_slash, yaw_to_quaternion)
 
 finite = st.floats(allow_nan=False, allow_infinity=False)
 component = st.floats(-1e3, 1e3, allow_nan=False)
@@ -146,3 +147,20 @@ def test_very_large_angles_are_handled():
 def test_normalize_rejects_non_finite(bad):
     with pytest.raises(ValueError, match='non-finite'):
         normalize_angle(bad)
+
+
+# --- yaw_to_quaternion, strip_leading_slash ----------------------------------
+
+@given(st.floats(-math.pi + 1e-9, math.pi))
+def test_yaw_to_quaternion_round_trips(yaw):
+    q = yaw_to_quaternion(yaw)
+    assert sum(c * c for c in q) == pytest.approx(1.0, abs=1e-12)
+    assert angles_close(quat_to_angle(q), yaw, 1e-12)
+    assert angles_close(oracle_yaw(q), yaw, 1e-9)
+
+
+@pytest.mark.parametrize('given_id, expected', [
+    ('/odom', 'odom'), ('//base_link', 'base_link'), ('robot1/odom', 'robot1/odom'),
+    ('base_footprint', 'base_footprint'), ('', '')])
+def test_strip_leading_slash(given_id, expected):
+    assert strip_leading_slash(given_id) == expected
