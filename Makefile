@@ -11,8 +11,8 @@ ARGS ?=
 
 DEB_PACKAGES := catkin ros-cmake-modules python3-catkin-pkg python3-setuptools \
   python3-rospy python3-tf2-ros python3-geometry-msgs python3-nav-msgs \
-  python3-sensor-msgs python3-rosgraph-msgs python3-rostest python3-roslaunch \
-  python3-rosmaster python3-rostopic python3-rosnode python3-rosparam \
+  python3-sensor-msgs python3-rosgraph python3-rosgraph-msgs python3-tf2-msgs \
+  python3-rostest python3-roslaunch python3-rosmaster python3-rostopic python3-rosnode python3-rosparam \
   python3-rosbag rosbash librostest-dev libgeometry-msgs-dev libnav-msgs-dev \
   libsensor-msgs-dev libstd-msgs-dev libtf2-ros-dev ros-robot-state-publisher \
   rviz xvfb catkin-lint python3-pytest python3-hypothesis python3-numpy \
@@ -48,8 +48,12 @@ test: lint
 unit:
 	python3 -m pytest test/unit -q -p no:cacheprovider
 
+# The course on the fake robot at real time, recorded and plotted to course.png.
+# Launch args pass through: make demo ARGS="precise:=true rviz:=true"
 demo: build
-	$(ROS) roslaunch rbx1_nav odom_out_and_back_sim.launch $(ARGS)
+	$(ROS) roslaunch rbx1_nav odom_out_and_back_sim.launch record:=true \
+	  bag:=$(CURDIR)/course.bag $(ARGS)
+	$(ROS) rosrun rbx1_nav plot_course.py $(CURDIR)/course.bag -o $(CURDIR)/course.png
 
 clean:
 	rm -rf $(WS)
