@@ -19,7 +19,7 @@ DEB_PACKAGES := catkin ros-cmake-modules python3-catkin-pkg python3-setuptools \
   python3-matplotlib
 SUDO := $(if $(filter 0,$(shell id -u)),,sudo)
 
-.PHONY: deps build test unit lint demo clean
+.PHONY: deps build test unit lint demo bench clean
 
 deps:
 	@missing=$$(dpkg-query -W -f='$${Package} $${Status}\n' $(DEB_PACKAGES) 2>/dev/null \
@@ -54,6 +54,10 @@ demo: build
 	$(ROS) roslaunch rbx1_nav odom_out_and_back_sim.launch record:=true \
 	  bag:=$(CURDIR)/course.bag $(ARGS)
 	$(ROS) rosrun rbx1_nav plot_course.py $(CURDIR)/course.bag -o $(CURDIR)/course.png
+
+# Speed of the simulator (a table; not a test).
+bench: build
+	$(ROS) python3 bench/bench_fake_turtlebot.py --speeds 1 5 10 20 40 --sim-seconds 10
 
 clean:
 	rm -rf $(WS)
