@@ -21,6 +21,8 @@ stale tf, an error or an interruption. The robot is always sent a stop.
 """
 import math
 import sys
+import threading
+import time
 
 import rospy
 import tf2_ros
@@ -182,6 +184,36 @@ class OdomOutAndBack(object):
                 'sim_clock.launch, or set /use_sim_time false)'
                 % self.settings['tf_wait'])
 
+    def watch_clock(self):
+        """Under /use_sim_time, abort the course if /clock stops.
+
+        rospy.Rate.sleep() waits for simulated time, so with a dead clock the
+        control loop, and with it the stale-tf check, would block forever.
+        This thread measures wall time (the one place the node does) and shuts
+        the node down, robot stopped, when ROS time stands still for
+        max(2 s, ~tf_timeout) of wall time.
+        """
+        if not rospy.get_param('/use_sim_time', False):
+            return
+        limit = max(2.0, self.settings['tf_timeout'])
+
+        def watch():
+            last, since = rospy.get_rostime(), time.monotonic()
+            while not rospy.is_shutdown():
+                rospy.rostime.wallsleep(0.1)
+                now = rospy.get_rostime()
+                if now != last:
+                    last, since = now, time.monotonic()
+                elif time.monotonic() - since > limit:
+                    self.stop()
+                    rospy.logerr('odom_out_and_back: /clock has not advanced '
+                                 'for %.1f s of wall time (simulator or clock '
+                                 'node gone?); stopped the robot', limit)
+                    rospy.signal_shutdown('simulated clock stopped')
+                    return
+
+        threading.Thread(target=watch, name='clock_watchdog', daemon=True).start()
+
     def find_base_frame(self):
         """Wait up to ~tf_wait for odom -> base; pick the base frame."""
         candidates = ((self.base_frame,) if self.base_frame
@@ -220,6 +252,7 @@ class OdomOutAndBack(object):
     def run(self):
         """Drive the course; return when done, raise CourseAborted if not."""
         self.wait_for_clock()
+        self.watch_clock()
         rospy.loginfo('Waiting up to %.1f s for tf %s -> %s',
                       self.settings['tf_wait'], self.odom_frame,
                       self.base_frame or ' or '.join(BASE_FRAME_CANDIDATES))

@@ -32,6 +32,7 @@ class TwoRobotsTest(unittest.TestCase):
         precise = bool(rospy.get_param('~precise', False))
         courses = dict((ns, CourseProcess(ns=ns, params={
             'precise': str(precise).lower(),
+            'tf_timeout': float(rospy.get_param('~tf_timeout', 1.0)),
             'odom_frame': ns + '/odom',
             'base_frame': '/%s/base_footprint' % ns}))  # slash gets stripped
             for ns in ROBOTS)

@@ -46,10 +46,11 @@ class CourseConfig(object):
     backwards, a negative ``goal_angle`` turns clockwise.
     """
 
-    FIELDS = ('linear_speed', 'goal_distance', 'angular_speed', 'goal_angle',
-              'angular_tolerance', 'legs', 'pause', 'precise',
-              'precise_gain', 'precise_heading_gain',
-              'precise_min_linear_speed', 'precise_min_angular_speed')
+    # Upper bounds that no TurtleBot-class course needs; past them a value is
+    # a typo (or a unit mix-up) and the robot must not move.
+    MAX_LINEAR_SPEED = 2.0          # m/s
+    MAX_ANGULAR_SPEED = 2 * math.pi  # rad/s
+    MAX_LEGS = 1000
 
     # precise_gain (1/s) sets the approach: speed = gain * what remains,
     # clamped between the creep speed and the normal speed.
@@ -73,15 +74,11 @@ class CourseConfig(object):
         self.precise_min_linear_speed = precise_min_linear_speed
         self.precise_min_angular_speed = precise_min_angular_speed
 
-    def as_dict(self):
-        """The settings as a plain dict, in FIELDS order."""
-        return dict((name, getattr(self, name)) for name in self.FIELDS)
-
     def problems(self):
         """A list of human-readable reasons the settings are unusable."""
         found = []
 
-        def number(name, allow_zero=True, allow_negative=True):
+        def number(name, allow_zero=True, allow_negative=True, maximum=None):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, (int, float)):
                 found.append('%s must be a number, got %r' % (name, value))
@@ -91,11 +88,18 @@ class CourseConfig(object):
                 found.append('%s must not be negative, got %r' % (name, value))
             elif value == 0 and not allow_zero:
                 found.append('%s must be positive, got %r' % (name, value))
+            elif maximum is not None and abs(value) > maximum:
+                found.append('%s must be at most %g, got %r' % (name, maximum,
+                                                                value))
 
-        for name in ('linear_speed', 'angular_speed', 'precise_gain',
-                     'precise_heading_gain', 'precise_min_linear_speed',
-                     'precise_min_angular_speed'):
-            number(name, allow_zero=False, allow_negative=False)
+        for name, maximum in (('linear_speed', self.MAX_LINEAR_SPEED),
+                              ('angular_speed', self.MAX_ANGULAR_SPEED),
+                              ('precise_gain', None),
+                              ('precise_heading_gain', None),
+                              ('precise_min_linear_speed', self.MAX_LINEAR_SPEED),
+                              ('precise_min_angular_speed',
+                               self.MAX_ANGULAR_SPEED)):
+            number(name, allow_zero=False, allow_negative=False, maximum=maximum)
         for name in ('goal_distance', 'goal_angle'):
             number(name)
         for name in ('angular_tolerance', 'pause'):
@@ -104,8 +108,10 @@ class CourseConfig(object):
             found.append('precise must be true or false, got %r' % (self.precise,))
         legs = self.legs
         if (isinstance(legs, bool) or not isinstance(legs, (int, float))
-                or not math.isfinite(legs) or legs != int(legs) or legs < 1):
-            found.append('legs must be a whole number >= 1, got %r' % (legs,))
+                or not math.isfinite(legs) or legs != int(legs) or legs < 1
+                or legs > self.MAX_LEGS):
+            found.append('legs must be a whole number from 1 to %d, got %r'
+                         % (self.MAX_LEGS, legs))
         return found
 
     def validate(self):

@@ -355,6 +355,9 @@ def test_expected_end_pose_of_a_square():
     ('pause', float('nan'), 'pause must be finite'),
     ('precise_min_linear_speed', 0.0, 'precise_min_linear_speed must be positive'),
     ('precise', 'yes', 'precise must be true or false'),
+    ('linear_speed', 100.0, 'linear_speed must be at most 2'),
+    ('angular_speed', 50.0, 'angular_speed must be at most 6.28'),
+    ('legs', 10 ** 9, 'legs must be a whole number from 1 to 1000'),
 ])
 def test_absurd_settings_are_rejected_by_name(field, value, words):
     cfg = CourseConfig(**{field: value})
