@@ -11,7 +11,9 @@ Publishes:   odom (nav_msgs/Odometry), tf odom_frame -> base_frame,
 Parameters:  ~rate, ~odom_frame, ~base_frame, ~publish_tf, ~ground_truth_frame,
              ~imu_frame, ~publish_imu, ~left_wheel_joint, ~right_wheel_joint,
              ~pose_covariance_diagonal, ~twist_covariance_diagonal and every
-             field of rbx1_nav.diff_drive.DiffDriveConfig.
+             field of rbx1_nav.diff_drive.DiffDriveConfig (bounds in its
+             CONFIG_LIMITS). ~rate is 50 Hz by default, 0.01 to 1000.
+             A bad value is logged and the node exits with status 1.
 """
 import threading
 
@@ -23,36 +25,40 @@ from sensor_msgs.msg import Imu, JointState
 
 from rbx1_nav.diff_drive import (DEFAULT_COVARIANCE_DIAGONAL, DiffDriveConfig,
                                  DiffDriveSim, covariance_from_diagonal)
-from rbx1_nav.transform_utils import strip_leading_slash, yaw_to_quaternion
+from rbx1_nav.params import flag, frame, number, number_list, text
+from rbx1_nav.transform_utils import yaw_to_quaternion
 
 WARN_PERIOD = 5.0  # s between repeats of the same warning
 MAX_CATCH_UP = 1.0  # s of ROS time the loop replays step by step when late
+# Bounds of ~rate (Hz): the loop steps every 1/~rate s of ROS time, so a
+# huge rate would be a zero period (an endless catch-up) and a tiny one a
+# sleep too long for the OS.
+MIN_RATE, MAX_RATE = 0.01, 1000.0
 
 
-def frame_param(name, default):
-    """A frame id parameter without the leading '/' that tf2 rejects."""
-    return strip_leading_slash(rospy.get_param(name, default))
+def param(name, default, check, **options):
+    """Parameter ``name`` checked by a rbx1_nav.params function."""
+    return check(name, rospy.get_param(name, default), **options)
 
 
 def model_config():
     """DiffDriveConfig filled from the node's private parameters."""
-    values = {}
-    for name in DiffDriveConfig.names():
-        default = getattr(DiffDriveConfig, name)
-        value = rospy.get_param('~' + name, default)
-        if name != 'seed' and isinstance(value, (int, float, str)):
-            try:  # YAML reads 1e9 as a string; accept it as a number
-                value = float(value)
-            except ValueError:
-                pass  # DiffDriveConfig.problems() names the bad value
-        values[name] = value
-    return DiffDriveConfig(**values)
+    raw = {name: rospy.get_param('~' + name, getattr(DiffDriveConfig, name))
+           for name in DiffDriveConfig.names()}
+    return DiffDriveConfig.from_params(raw, prefix='~')
 
 
-def fill_odometry(msg, stamp, frame, child, pose, velocity):
+def covariance_param(name):
+    """A 6-variance covariance diagonal parameter, as a row-major 36-list."""
+    diagonal = param(name, list(DEFAULT_COVARIANCE_DIAGONAL), number_list,
+                     length=6, minimum=0.0, allow_zero=False)
+    return diagonal, covariance_from_diagonal(diagonal)
+
+
+def fill_odometry(msg, stamp, frame_id, child, pose, velocity):
     """Set header, planar pose and body twist of a nav_msgs/Odometry."""
     msg.header.stamp = stamp
-    msg.header.frame_id = frame
+    msg.header.frame_id = frame_id
     msg.child_frame_id = child
     msg.pose.pose.position.x = pose.x
     msg.pose.pose.position.y = pose.y
@@ -65,23 +71,17 @@ class FakeTurtleBot:
     """Parameters, publishers and the fixed-rate loop around DiffDriveSim."""
 
     def __init__(self):
-        self.rate = float(rospy.get_param('~rate', 50.0))
-        if not self.rate > 0:
-            raise ValueError('~rate must be > 0, got %r' % self.rate)
-        self.odom_frame = frame_param('~odom_frame', 'odom')
-        self.base_frame = frame_param('~base_frame', 'base_footprint')
-        self.truth_frame = frame_param('~ground_truth_frame', 'world')
-        self.imu_frame = frame_param('~imu_frame', self.base_frame)
-        self.publish_tf = bool(rospy.get_param('~publish_tf', True))
-        self.publish_imu = bool(rospy.get_param('~publish_imu', False))
-        self.joints = [rospy.get_param('~left_wheel_joint', 'left_wheel_joint'),
-                       rospy.get_param('~right_wheel_joint', 'right_wheel_joint')]
-        pose_diag = rospy.get_param('~pose_covariance_diagonal',
-                                    list(DEFAULT_COVARIANCE_DIAGONAL))
-        twist_diag = rospy.get_param('~twist_covariance_diagonal',
-                                     list(DEFAULT_COVARIANCE_DIAGONAL))
-        self.pose_cov = covariance_from_diagonal(pose_diag)
-        self.twist_cov = covariance_from_diagonal(twist_diag)
+        self.rate = param('~rate', 50.0, number, minimum=MIN_RATE, maximum=MAX_RATE)
+        self.odom_frame = param('~odom_frame', 'odom', frame)
+        self.base_frame = param('~base_frame', 'base_footprint', frame)
+        self.truth_frame = param('~ground_truth_frame', 'world', frame)
+        self.imu_frame = param('~imu_frame', self.base_frame, frame)
+        self.publish_tf = param('~publish_tf', True, flag)
+        self.publish_imu = param('~publish_imu', False, flag)
+        self.joints = [param('~left_wheel_joint', 'left_wheel_joint', text),
+                       param('~right_wheel_joint', 'right_wheel_joint', text)]
+        pose_diag, self.pose_cov = covariance_param('~pose_covariance_diagonal')
+        twist_diag, self.twist_cov = covariance_param('~twist_covariance_diagonal')
         self.sim = DiffDriveSim(model_config())
         self.lock = threading.Lock()
         self.was_timed_out = True
@@ -94,6 +94,11 @@ class FakeTurtleBot:
                     twist_covariance_diagonal=twist_diag)
         rospy.loginfo('fake_turtlebot parameters: %s',
                       ', '.join('%s=%r' % item for item in sorted(used.items())))
+        if self.sim.config.cmd_timeout < 1.0 / self.rate:
+            rospy.logwarn('fake_turtlebot: ~cmd_timeout (%g s) is shorter than one '
+                          'step (1/~rate = %g s); the watchdog will stop the base '
+                          'between most commands', self.sim.config.cmd_timeout,
+                          1.0 / self.rate)
 
         self.odom_pub = rospy.Publisher('odom', Odometry, queue_size=10)
         self.truth_pub = rospy.Publisher('ground_truth', Odometry, queue_size=10)

@@ -13,12 +13,19 @@ Private parameters:
   ~estimate_twist (bool, true): twist from successive poses, else zero and
       marked unknown.
   ~twist_variance (float, 0.01): variance given to an estimated twist.
+A bad parameter is logged and the node exits with status 1.
 """
 import rospy
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry
 
 from rbx1_nav.odom_ekf import PoseToOdometry
+from rbx1_nav.params import flag, frame, number
+
+
+def param(name, default, check, **options):
+    """Parameter ``name`` checked by a rbx1_nav.params function."""
+    return check(name, rospy.get_param(name, default), **options)
 
 
 class OdomEkfNode(object):
@@ -26,10 +33,11 @@ class OdomEkfNode(object):
 
     def __init__(self):
         self.converter = PoseToOdometry(
-            frame_id=rospy.get_param('~frame_id', ''),
-            child_frame_id=rospy.get_param('~child_frame_id', 'base_footprint'),
-            estimate_twist=rospy.get_param('~estimate_twist', True),
-            twist_variance=rospy.get_param('~twist_variance', 0.01))
+            frame_id=param('~frame_id', '', frame, allow_empty=True),
+            child_frame_id=param('~child_frame_id', 'base_footprint', frame),
+            estimate_twist=param('~estimate_twist', True, flag),
+            twist_variance=param('~twist_variance', 0.01, number,
+                                 minimum=0.0, allow_zero=False))
         rospy.loginfo('odom_ekf: frame_id=%r child_frame_id=%r '
                       'estimate_twist=%s twist_variance=%g; %s -> %s',
                       self.converter.frame_id or '(from input)',

@@ -31,8 +31,8 @@ from rosgraph_msgs.msg import Clock
 
 from rbx1_nav.out_and_back import (CourseConfig, OutAndBack, Pose2D,
                                    expected_end_pose, pose_error)
-from rbx1_nav.transform_utils import (normalize_angle, quat_to_angle,
-                                      strip_leading_slash)
+from rbx1_nav import params
+from rbx1_nav.transform_utils import normalize_angle, quat_to_angle
 
 BASE_FRAME_CANDIDATES = ('base_footprint', 'base_link')
 
@@ -41,32 +41,10 @@ class CourseAborted(Exception):
     """The course cannot go on; the message says why, for the log."""
 
 
-def _number(name, default, positive=True):
-    """A private float parameter; ValueError if absurd."""
-    value = rospy.get_param('~' + name, default)
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ValueError('~%s must be a number, got %r' % (name, value))
-    if not math.isfinite(value) or (positive and value <= 0.0):
-        raise ValueError('~%s must be a finite%s number, got %r' % (
-            name, ' positive' if positive else '', value))
-    return value
-
-
-def _flag(value):
-    """A boolean parameter; 'true'/'false' strings too; else left for the check."""
-    if isinstance(value, str) and value.strip().lower() in ('true', 'false'):
-        return value.strip().lower() == 'true'
-    return value
-
-
-def _frame(name, default):
-    """A private frame-id parameter, leading slashes stripped (tf2 style)."""
-    value = rospy.get_param('~' + name, default)
-    if not isinstance(value, str):
-        raise ValueError('~%s must be a frame id string, got %r' % (name, value))
-    return strip_leading_slash(value.strip())
+# Course settings that are plain numbers; CourseConfig checks their ranges.
+COURSE_NUMBERS = ('linear_speed', 'goal_distance', 'angular_speed',
+                  'goal_angle', 'pause', 'precise_gain', 'precise_heading_gain',
+                  'precise_min_linear_speed', 'precise_min_angular_speed')
 
 
 def read_settings():
@@ -75,42 +53,34 @@ def read_settings():
     Returns (CourseConfig, settings dict for the ROS side). Raises
     ValueError naming every unusable value.
     """
+    problems = []
+
+    def read(name, default, check, **options):
+        try:
+            return check('~' + name, rospy.get_param('~' + name, default),
+                         **options)
+        except ValueError as err:
+            problems.append(str(err))
+            return default
+
     defaults = CourseConfig()
-    values = {}
-    for name in ('linear_speed', 'goal_distance', 'angular_speed',
-                 'goal_angle', 'legs', 'pause', 'precise', 'precise_gain',
-                 'precise_heading_gain', 'precise_min_linear_speed',
-                 'precise_min_angular_speed'):
-        values[name] = rospy.get_param('~' + name, getattr(defaults, name))
-    tolerance_deg = rospy.get_param('~angular_tolerance', 1.0)
-    try:
-        values['angular_tolerance'] = math.radians(float(tolerance_deg))
-    except (TypeError, ValueError):
-        values['angular_tolerance'] = tolerance_deg  # rejected just below
-    if isinstance(values['legs'], float) and values['legs'].is_integer():
-        values['legs'] = int(values['legs'])
-    values['precise'] = _flag(values['precise'])
+    values = dict((name, read(name, getattr(defaults, name), params.number))
+                  for name in COURSE_NUMBERS)
+    values['legs'] = read('legs', defaults.legs, params.integer)
+    values['precise'] = read('precise', defaults.precise, params.flag)
+    values['angular_tolerance'] = math.radians(
+        read('angular_tolerance', 1.0, params.number))
     config = CourseConfig(**values)
-    problems = ['~' + p for p in config.problems()]
-    settings = {}
-    for name, default, positive in (('rate', 20.0, True),
-                                    ('tf_wait', 5.0, True),
-                                    ('tf_timeout', 1.0, True),
-                                    ('start_delay', 0.0, False)):
-        try:
-            settings[name] = _number(name, default, positive)
-        except ValueError as err:
-            problems.append(str(err))
-    if settings.get('start_delay', 0.0) < 0.0:
-        problems.append('~start_delay must not be negative, got %r'
-                        % settings['start_delay'])
-    for name, default in (('odom_frame', 'odom'), ('base_frame', '')):
-        try:
-            settings[name] = _frame(name, default)
-        except ValueError as err:
-            problems.append(str(err))
-    if not problems and not settings['odom_frame']:
-        problems.append('~odom_frame must not be empty')
+    problems.extend('~' + p for p in config.problems())
+    positive = dict(minimum=0.0, allow_zero=False)
+    settings = {
+        'rate': read('rate', 20.0, params.number, minimum=1.0, maximum=1000.0),
+        'tf_wait': read('tf_wait', 5.0, params.number, **positive),
+        'tf_timeout': read('tf_timeout', 1.0, params.number, **positive),
+        'start_delay': read('start_delay', 0.0, params.number, minimum=0.0),
+        'odom_frame': read('odom_frame', 'odom', params.frame),
+        'base_frame': read('base_frame', '', params.frame, allow_empty=True),
+    }
     if problems:
         raise ValueError('; '.join(problems))
     return config, settings

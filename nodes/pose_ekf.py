@@ -8,13 +8,16 @@ the tf ``output_frame -> base_footprint_frame``. The filter lives in
 
 Private parameters (robot_pose_ekf's names and defaults):
   ~output_frame (str, 'odom'), ~base_footprint_frame (str, 'base_footprint'),
-  ~freq (float, 30.0): filter steps per second,
+  ~freq (float, 30.0): filter steps per second, 0.01 to 1000,
   ~sensor_timeout (float, 1.0): seconds without messages before a sensor is
       left out of the fusion,
   ~odom_used (bool, true), ~imu_used (bool, true),
   ~vo_used (bool, false): accepted for compatibility; visual odometry is not
       supported and is ignored.
-The IMU's yaw is used as is: mount it with its z axis up.
+The IMU's yaw is used as is: mount it with its z axis up. A bad parameter
+is logged and the node exits with status 1. Absurd sensor messages are
+dropped with a warning, and should the estimate ever stop being finite the
+filter restarts instead of publishing it.
 """
 import threading
 
@@ -25,25 +28,34 @@ from geometry_msgs.msg import (PoseWithCovarianceStamped, Quaternion,
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu
 
+from rbx1_nav.params import flag, frame, number
 from rbx1_nav.pose_ekf import (GyroOdomFusion, covariance_6x6,
-                               pose_covariance_3x3)
-from rbx1_nav.transform_utils import (quat_to_angle, strip_leading_slash,
-                                      yaw_to_quaternion)
+                               is_finite_estimate, pose_covariance_3x3)
+from rbx1_nav.transform_utils import quat_to_angle, yaw_to_quaternion
+
+WARN_PERIOD = 5.0  # s between repeats of the same warning
+MIN_FREQ, MAX_FREQ = 0.01, 1000.0  # Hz, bounds of ~freq
+
+
+def param(name, default, check, **options):
+    """Parameter ``name`` checked by a rbx1_nav.params function."""
+    return check(name, rospy.get_param(name, default), **options)
 
 
 class PoseEkfNode(object):
     """Feeds sensor messages to GyroOdomFusion and publishes its estimate."""
 
     def __init__(self):
-        self.output_frame = strip_leading_slash(
-            rospy.get_param('~output_frame', 'odom'))
-        self.base_frame = strip_leading_slash(
-            rospy.get_param('~base_footprint_frame', 'base_footprint'))
-        self.freq = float(rospy.get_param('~freq', 30.0))
-        timeout = float(rospy.get_param('~sensor_timeout', 1.0))
-        odom_used = rospy.get_param('~odom_used', True)
-        imu_used = rospy.get_param('~imu_used', True)
-        vo_used = rospy.get_param('~vo_used', False)
+        self.output_frame = param('~output_frame', 'odom', frame)
+        self.base_frame = param('~base_footprint_frame', 'base_footprint',
+                                frame)
+        self.freq = param('~freq', 30.0, number, minimum=MIN_FREQ,
+                          maximum=MAX_FREQ)
+        timeout = param('~sensor_timeout', 1.0, number, minimum=0.0,
+                        allow_zero=False)
+        odom_used = param('~odom_used', True, flag)
+        imu_used = param('~imu_used', True, flag)
+        vo_used = param('~vo_used', False, flag)
         rospy.loginfo('pose_ekf: output_frame=%s base_footprint_frame=%s '
                       'freq=%g sensor_timeout=%g odom_used=%s imu_used=%s '
                       'vo_used=%s', self.output_frame, self.base_frame,
@@ -51,8 +63,6 @@ class PoseEkfNode(object):
         if vo_used:
             rospy.logwarn('pose_ekf: vo_used is set, but visual odometry is '
                           'not supported; fusing odometry and IMU only')
-        if self.freq <= 0.0:
-            raise ValueError('~freq must be positive, got %g' % self.freq)
         self.fusion = GyroOdomFusion(odom_used, imu_used, timeout)
         self.lock = threading.Lock()
         self.pub = rospy.Publisher('~odom_combined', PoseWithCovarianceStamped,
@@ -83,13 +93,14 @@ class PoseEkfNode(object):
                 self.fusion.add_odom(now.to_sec(), self._stamp(msg.header, now),
                                      *reading)
         except ValueError as err:
-            rospy.logwarn_throttle(5.0, 'pose_ekf: dropped odom: %s' % err)
+            rospy.logwarn_throttle(WARN_PERIOD, 'pose_ekf: dropped odom: %s'
+                                   % err)
 
     def on_imu(self, msg):
         """Hand the IMU's yaw and its variance to the filter."""
         now = rospy.Time.now()
         if msg.orientation_covariance[0] == -1.0:
-            rospy.logwarn_throttle(5.0, 'pose_ekf: dropped imu_data: it has '
+            rospy.logwarn_throttle(WARN_PERIOD, 'pose_ekf: dropped imu_data: it has '
                                    'no orientation (covariance[0] == -1)')
             return
         try:
@@ -98,13 +109,25 @@ class PoseEkfNode(object):
                 self.fusion.add_imu(now.to_sec(), self._stamp(msg.header, now),
                                     yaw, msg.orientation_covariance[8])
         except ValueError as err:
-            rospy.logwarn_throttle(5.0, 'pose_ekf: dropped imu_data: %s' % err)
+            rospy.logwarn_throttle(WARN_PERIOD, 'pose_ekf: dropped imu_data: %s'
+                                   % err)
 
     def step(self):
-        """One filter step; publish the estimate if it took in new data."""
+        """One filter step; publish the estimate if it took in new data.
+
+        A non-finite estimate is never published: the filter restarts.
+        """
         with self.lock:
-            events = self.fusion.step(rospy.Time.now().to_sec())
-            estimate = self.fusion.estimate if self.fusion.updated else None
+            try:
+                events = self.fusion.step(rospy.Time.now().to_sec())
+                estimate = self.fusion.estimate if self.fusion.updated else None
+                if not is_finite_estimate(estimate):
+                    raise ValueError('the estimate is not finite')
+            except (ValueError, ArithmeticError) as err:
+                self.fusion.restart()
+                events, estimate = [], None
+                rospy.logwarn_throttle(WARN_PERIOD, 'pose_ekf: filter restarted'
+                                       ' (%s); waiting for new sensor data' % err)
         for level, text in events:
             (rospy.logwarn if level == 'warn' else rospy.loginfo)(
                 'pose_ekf: ' + text)

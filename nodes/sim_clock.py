@@ -6,23 +6,30 @@ One clock serves every robot on the master, so it publishes the global
 node follows the simulated time it publishes, so tests run the same at 1x
 and at 20x. The pacing itself is rbx1_nav.sim_clock.ClockPacer.
 
-Parameters: ~speed (1.0, x real time), ~step (0.01 s of sim time per tick,
-at most 0.01), ~start_time (0.0 s).
+Parameters: ~speed (1.0, x real time, 0.001 to 1e6), ~step (0.01 s of sim
+time per tick, 1e-9 to 0.01), ~start_time (0.0 s, at most 2**31).
 """
 import time
 
 import rospy
 from rosgraph_msgs.msg import Clock
 
-from rbx1_nav.sim_clock import MAX_STEP, ClockPacer
+from rbx1_nav.params import number
+from rbx1_nav.sim_clock import (MAX_SPEED, MAX_START, MAX_STEP, MIN_SPEED,
+                                MIN_STEP, ClockPacer)
+
+
+def param(name, default, **limits):
+    """Number parameter ``name`` within ``limits`` (ValueError names it)."""
+    return number(name, rospy.get_param(name, default), **limits)
 
 
 def main():
     rospy.init_node('sim_clock')
-    speed = float(rospy.get_param('~speed', 1.0))
-    step = float(rospy.get_param('~step', MAX_STEP))
-    start = float(rospy.get_param('~start_time', 0.0))
     try:
+        speed = param('~speed', 1.0, minimum=MIN_SPEED, maximum=MAX_SPEED)
+        step = param('~step', MAX_STEP, minimum=MIN_STEP, maximum=MAX_STEP)
+        start = param('~start_time', 0.0, minimum=0.0, maximum=MAX_START)
         pacer = ClockPacer(speed, step, start)
     except ValueError as err:
         rospy.logfatal('sim_clock: %s', err)

@@ -26,9 +26,11 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+from rbx1_nav.params import integer, number
+
 __all__ = ['Pose2D', 'DiffDriveConfig', 'DiffDriveSim', 'arc_step',
            'covariance_from_diagonal',
-           'DEFAULT_COVARIANCE_DIAGONAL']
+           'DEFAULT_COVARIANCE_DIAGONAL', 'CONFIG_LIMITS']
 
 # x, y, z, roll, pitch, yaw. A planar base observes only x, y and yaw; the
 # large values for the rest follow the TurtleBot driver's convention.
@@ -96,32 +98,78 @@ class DiffDriveConfig:
     gyro_bias: float = 0.0              # rad/s constant rate offset
     seed: int = None                    # None: fresh random noise each run
 
-    _POSITIVE = ('wheel_separation', 'wheel_radius', 'max_linear_speed',
-                 'max_angular_speed', 'cmd_timeout', 'linear_scale_error',
-                 'angular_scale_error', 'odom_linear_scale_correction',
-                 'odom_angular_scale_correction')
-    _NON_NEGATIVE = ('accel_limit_linear', 'accel_limit_angular',
-                     'command_latency', 'encoder_noise', 'gyro_noise_density')
-
     def problems(self):
-        """Human-readable list of invalid values; empty when all are usable."""
+        """Human-readable list of invalid values; empty when all are usable.
+
+        Every number must be an int or float within :data:`CONFIG_LIMITS`
+        (the bounds keep the model's arithmetic finite); ``seed`` must be
+        None or an int >= 0.
+        """
         found = []
-        for name in self._POSITIVE + self._NON_NEGATIVE + ('gyro_bias',):
+        for name, (low, high, allow_zero) in CONFIG_LIMITS.items():
             value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value)):
-                found.append('%s must be a finite number, got %r' % (name, value))
-            elif name in self._POSITIVE and value <= 0:
-                found.append('%s must be > 0, got %r' % (name, value))
-            elif name in self._NON_NEGATIVE and value < 0:
-                found.append('%s must be >= 0, got %r' % (name, value))
-        if self.seed is not None and not isinstance(self.seed, int):
-            found.append('seed must be an integer, got %r' % (self.seed,))
+            try:
+                if isinstance(value, bool) or not isinstance(value, (int, float)):
+                    raise ValueError('%s must be a number, got %r' % (name, value))
+                number(name, value, low, high, allow_zero)
+            except ValueError as err:
+                found.append(str(err))
+        seed = self.seed
+        if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int)
+                                 or seed < 0):
+            found.append('seed must be an integer >= 0, got %r' % (seed,))
         return found
+
+    @classmethod
+    def from_params(cls, raw, prefix=''):
+        """A config from raw parameter values, e.g. as rospy.get_param returns.
+
+        ``raw`` maps field names to values; missing fields keep their
+        defaults. Numbers may be numeric strings (YAML reads 1e6 as one).
+        Raises ValueError naming every bad value as ``prefix + name``.
+        """
+        values, found = {}, []
+        for name, value in raw.items():
+            if name not in CONFIG_LIMITS and name != 'seed':
+                raise ValueError('%s%s is not a fake robot parameter' % (prefix, name))
+            try:
+                if name == 'seed':
+                    values[name] = (None if value is None
+                                    else integer(prefix + name, value, minimum=0))
+                else:
+                    values[name] = number(prefix + name, value, *CONFIG_LIMITS[name])
+            except ValueError as err:
+                found.append(str(err))
+        if found:
+            raise ValueError('; '.join(found))
+        return cls(**values)
 
     @classmethod
     def names(cls):
         """Names of all parameters, in declaration order."""
         return [f.name for f in fields(cls)]
+
+
+#: (minimum, maximum, allow_zero) of each numeric DiffDriveConfig field, for
+#: :func:`rbx1_nav.params.number`. The maxima are far beyond any real base
+#: but keep the model's arithmetic finite (no inf pose, no endless loop).
+CONFIG_LIMITS = {
+    'wheel_separation': (1e-3, 10.0, False),        # m
+    'wheel_radius': (1e-3, 10.0, False),            # m
+    'max_linear_speed': (0.0, 100.0, False),        # m/s
+    'max_angular_speed': (0.0, 100.0, False),       # rad/s
+    'accel_limit_linear': (0.0, 1e6, True),         # m/s^2, 0 = unlimited
+    'accel_limit_angular': (0.0, 1e6, True),        # rad/s^2, 0 = unlimited
+    'cmd_timeout': (0.0, 1e6, False),               # s
+    'command_latency': (0.0, 60.0, True),           # s
+    'linear_scale_error': (0.0, 100.0, False),
+    'angular_scale_error': (0.0, 100.0, False),
+    'odom_linear_scale_correction': (0.0, 100.0, False),
+    'odom_angular_scale_correction': (0.0, 100.0, False),
+    'encoder_noise': (0.0, 1.0, True),              # m/sqrt(m)
+    'gyro_noise_density': (0.0, 10.0, True),        # rad/s/sqrt(Hz)
+    'gyro_bias': (-10.0, 10.0, True),               # rad/s
+}
 
 
 def _max_change(accel_limit, dt):

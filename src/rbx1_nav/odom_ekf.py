@@ -9,16 +9,26 @@ classes from geometry_msgs and nav_msgs load without a master.
 import copy
 import math
 
+import numpy as np
 from nav_msgs.msg import Odometry
 
-from rbx1_nav.diff_drive import covariance_from_diagonal
 from rbx1_nav.transform_utils import (normalize_angle, quat_to_angle,
                                       strip_leading_slash)
 
-__all__ = ['PoseToOdometry', 'UNKNOWN_VARIANCE']
+__all__ = ['PoseToOdometry', 'UNKNOWN_VARIANCE', 'UNKNOWN_TWIST_COVARIANCE',
+           'MIN_TWIST_DT', 'MAX_TWIST']
 
 #: Variance that marks a twist component as unknown (the common ROS idiom).
 UNKNOWN_VARIANCE = 1e6
+#: Row-major 6x6 twist covariance of a twist that is not known at all.
+UNKNOWN_TWIST_COVARIANCE = tuple(
+    np.diag([UNKNOWN_VARIANCE] * 6).ravel().tolist())
+#: Poses closer in time than this (s) give no twist: dividing by a tiny dt
+#: turns stamp jitter into absurd speeds.
+MIN_TWIST_DT = 1e-3
+#: A twist component above this (m/s or rad/s) is no robot's motion but a
+#: jump of the input (a reset filter, a restarted driver): marked unknown.
+MAX_TWIST = 1e3
 
 
 def _check_finite(msg):
@@ -46,7 +56,9 @@ class PoseToOdometry(object):
     base frame. With ``estimate_twist`` the twist is the body-frame velocity
     between the previous and the current pose (``twist_variance`` on the
     planar components, :data:`UNKNOWN_VARIANCE` on the rest); otherwise, and
-    for the first pose, the twist is zero and marked unknown.
+    for the first pose, poses less than :data:`MIN_TWIST_DT` apart or a
+    twist that is not finite or beyond :data:`MAX_TWIST`, the twist is zero
+    and marked unknown.
     """
 
     def __init__(self, frame_id='', child_frame_id='base_footprint',
@@ -81,10 +93,6 @@ class PoseToOdometry(object):
         self._fill_twist(odom)
         return odom
 
-    def reset(self):
-        """Forget the previous pose (e.g. after time jumped backwards)."""
-        self._previous = None
-
     def _fill_twist(self, odom):
         """Set ``odom.twist`` from the change since the previous pose."""
         pose = odom.pose.pose
@@ -92,24 +100,25 @@ class PoseToOdometry(object):
                pose.position.x, pose.position.y,
                quat_to_angle(pose.orientation))
         previous, self._previous = self._previous, now
-        unknown = covariance_from_diagonal([UNKNOWN_VARIANCE] * 6)
-        odom.twist.covariance = unknown
+        odom.twist.covariance = list(UNKNOWN_TWIST_COVARIANCE)
         if not self.estimate_twist or previous is None:
             return
         if previous[0] != now[0]:
             return  # a different frame: the two poses are not comparable
         dt = now[1] - previous[1]
-        if dt <= 0.0:
-            return  # repeated or backwards stamp (e.g. a restarted sim clock)
+        if dt < MIN_TWIST_DT:
+            return  # repeated, backwards (a restarted sim clock) or jitter
         dyaw = normalize_angle(now[4] - previous[4])
         mid_yaw = previous[4] + 0.5 * dyaw
         dx, dy = now[2] - previous[2], now[3] - previous[3]
         cos_y, sin_y = math.cos(mid_yaw), math.sin(mid_yaw)
+        velocity = ((cos_y * dx + sin_y * dy) / dt,
+                    (-sin_y * dx + cos_y * dy) / dt, dyaw / dt)
+        if not all(abs(v) <= MAX_TWIST for v in velocity):  # False for NaN
+            return  # a jump, or poses too far apart for a float
         twist = odom.twist.twist
-        twist.linear.x = (cos_y * dx + sin_y * dy) / dt
-        twist.linear.y = (-sin_y * dx + cos_y * dy) / dt
-        twist.angular.z = dyaw / dt
+        twist.linear.x, twist.linear.y, twist.angular.z = velocity
         var = self.twist_variance
-        odom.twist.covariance = covariance_from_diagonal(
+        odom.twist.covariance = np.diag(
             [var, var, UNKNOWN_VARIANCE, UNKNOWN_VARIANCE, UNKNOWN_VARIANCE,
-             var])
+             var]).ravel().tolist()

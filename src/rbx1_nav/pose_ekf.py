@@ -20,8 +20,10 @@ rest keeps its pose instead of following the gyro's drift.
 Without odometry (``odom_used`` false, or odometry timed out) the prediction
 is "no motion" with a large variance, so the yaw follows the gyro and the
 position stays put. :class:`GyroOdomFusion` adds start-up and sensor
-timeouts on top of :class:`PlanarEkf`. No rospy here: times are float
-seconds, poses are plain tuples.
+timeouts on top of :class:`PlanarEkf`, rejects absurd input (a variance
+above :data:`MAX_VARIANCE`, a position beyond :data:`MAX_POSITION`) and
+restarts itself should its estimate ever stop being finite. No rospy here:
+times are float seconds, poses are plain tuples.
 """
 import math
 
@@ -30,11 +32,18 @@ import numpy as np
 from rbx1_nav.transform_utils import normalize_angle
 
 __all__ = ['PlanarEkf', 'SensorWatch', 'GyroOdomFusion', 'odom_increment',
-           'pose_covariance_3x3', 'covariance_6x6', 'MIN_VARIANCE']
+           'pose_covariance_3x3', 'covariance_6x6', 'is_finite_estimate',
+           'MIN_VARIANCE', 'MAX_VARIANCE', 'MAX_POSITION']
 
 #: Variances are floored here so a sensor reporting zero covariance (as the
 #: ArbotiX fake robot does) is trusted completely without a singular matrix.
 MIN_VARIANCE = 1e-9
+#: Sensor covariance entries above this (m^2, rad^2) are absurd: the message
+#: is dropped. Far above any real sensor's, far below a float's range, so
+#: the filter's sums and products of covariances stay finite.
+MAX_VARIANCE = 1e12
+#: Odometry positions farther than this from the origin (m) are absurd.
+MAX_POSITION = 1e9
 #: Growth rate of the motion variance when no odometry is fused, per second:
 #: x and y (m^2/s) and yaw (rad^2/s). Large, so the gyro decides the yaw.
 NO_ODOM_VARIANCE_RATE = np.array([1.0, 1.0, 10.0])
@@ -52,12 +61,17 @@ def odom_increment(previous, current):
 
     Poses are ``(x, y, yaw)``; ``dx, dy`` are in the frame of ``previous``
     so the increment composes onto any other estimate of that pose.
+    Raises ValueError if the increment is not finite (poses so far apart
+    that their difference overflows).
     """
     px, py, pyaw = previous
     cx, cy, cyaw = current
     c, s = math.cos(pyaw), math.sin(pyaw)
     dx, dy = cx - px, cy - py
-    return (c * dx + s * dy, -s * dx + c * dy, normalize_angle(cyaw - pyaw))
+    increment = (c * dx + s * dy, -s * dx + c * dy, cyaw - pyaw)
+    if not all(math.isfinite(v) for v in increment):
+        raise ValueError('odometry increment is not finite')
+    return increment[:2] + (normalize_angle(increment[2]),)
 
 
 def pose_covariance_3x3(cov36):
@@ -76,7 +90,7 @@ def covariance_6x6(cov3):
 def floored(cov):
     """Symmetric copy of ``cov`` with every variance at least MIN_VARIANCE."""
     cov = np.array(cov, dtype=float, ndmin=2)
-    cov = 0.5 * (cov + cov.T)
+    cov = 0.5 * cov + 0.5 * cov.T  # halve first: cov + cov.T may overflow
     diag = np.diag(cov)
     return cov + np.diag(np.maximum(MIN_VARIANCE - diag, 0.0))
 
@@ -189,18 +203,29 @@ class GyroOdomFusion(object):
     Call :meth:`add_odom` / :meth:`add_imu` per message and :meth:`step` at
     the filter rate. :meth:`step` returns log events ``(level, text)``;
     after it, :attr:`estimate` is ``(stamp, pose, cov3)`` or None, and
-    :attr:`updated` says whether this step fused new data.
+    :attr:`updated` says whether this step fused new data. Should a step
+    ever leave a non-finite estimate, the filter :meth:`restart` s (with a
+    warning event) instead of reporting it.
     """
 
     def __init__(self, odom_used=True, imu_used=True, sensor_timeout=1.0):
         if not (odom_used or imu_used):
             raise ValueError('at least one of odom_used and imu_used is needed')
         self.odom_used, self.imu_used = bool(odom_used), bool(imu_used)
-        self.watches = {'odom': SensorWatch('odom', sensor_timeout),
-                        'imu': SensorWatch('imu', sensor_timeout)}
+        self.sensor_timeout = sensor_timeout
+        self._seq = 0
+        self.restart()
+
+    def restart(self):
+        """Forget the estimate and every reading received so far.
+
+        The filter starts again like a new one: from the next odometry
+        message (without odometry, from the next IMU message).
+        """
+        self.watches = {name: SensorWatch(name, self.sensor_timeout)
+                        for name in ('odom', 'imu')}
         self._latest = {'odom': None, 'imu': None}
         self._ref = {'odom': None, 'imu': None}
-        self._seq = 0
         self._last_predict = None
         self.ekf = None
         self.stamp = None
@@ -216,17 +241,24 @@ class GyroOdomFusion(object):
     def add_odom(self, now, stamp, pose, cov3):
         """An odometry pose ``(x, y, yaw)`` with its 3x3 covariance.
 
-        Raises ValueError (and keeps nothing) for a NaN pose or covariance.
+        Raises ValueError (and keeps nothing) for a NaN pose or covariance,
+        a position beyond :data:`MAX_POSITION` or a covariance entry beyond
+        :data:`MAX_VARIANCE`.
         """
-        if not all(math.isfinite(v) for v in pose):
+        x, y, yaw = (float(v) for v in pose)
+        if not all(math.isfinite(v) for v in (x, y, yaw)):
             raise ValueError('odometry pose has a NaN or infinite component')
-        self._add('odom', now, stamp, tuple(pose), _checked_cov(cov3))
+        if max(abs(x), abs(y)) > MAX_POSITION:
+            raise ValueError('odometry position (%g, %g) is absurd: more than '
+                             '%g m from the origin' % (x, y, MAX_POSITION))
+        self._add('odom', now, stamp, (x, y, normalize_angle(yaw)),
+                  _checked_cov(cov3))
 
     def add_imu(self, now, stamp, yaw, variance):
-        """An IMU yaw (radians) with its variance; ValueError if NaN."""
+        """An IMU yaw (radians) with its variance; ValueError if unusable."""
         if not math.isfinite(yaw):
             raise ValueError('IMU yaw is NaN or infinite')
-        self._add('imu', now, stamp, float(yaw),
+        self._add('imu', now, stamp, normalize_angle(yaw),
                   _checked_cov([[variance]])[0, 0])
 
     def _add(self, name, now, stamp, value, cov):
@@ -257,16 +289,35 @@ class GyroOdomFusion(object):
         driver = 'odom' if 'odom' in active else 'imu'
         if driver not in fresh:
             return events
+        try:
+            with np.errstate(over='ignore', invalid='ignore'):
+                self._fuse(now, fresh)
+        except ValueError as err:
+            self.restart()
+            return events + [('warn', 'filter restarted: %s; it starts again '
+                              'from the next %s message' % (
+                                  err, 'odometry' if self.odom_used else 'IMU'))]
+        self._advance_stamp(active)
+        return events
+
+    def _fuse(self, now, fresh):
+        """Predict to ``now``; fuse the gyro's change if it is fresh."""
         self._predict(max(now - self._last_predict, 0.0))
         self._last_predict = now
+        self._check_finite()
         if 'imu' in fresh:
             reading = self._latest['imu']
             self.ekf.update_yaw_increment(
                 normalize_angle(reading.value - self._ref['imu'].value),
                 reading.cov)
             self._ref['imu'] = reading
-        self._advance_stamp(active)
-        return events
+            self._check_finite()
+
+    def _check_finite(self):
+        """ValueError unless the filter's mean and covariance are finite."""
+        if not (np.all(np.isfinite(self.ekf.mean))
+                and np.all(np.isfinite(self.ekf.cov))):
+            raise ValueError('the estimate is no longer finite')
 
     def _check_sensors(self, now):
         """Apply timeouts: a lost sensor is left out, a returning one re-based."""
@@ -332,11 +383,26 @@ class GyroOdomFusion(object):
             self.updated = True
 
 
+def is_finite_estimate(estimate):
+    """True if ``estimate`` (``(stamp, pose, cov3)`` or None) is all finite.
+
+    None (no estimate yet) counts as finite: there is nothing wrong to publish.
+    """
+    if estimate is None:
+        return True
+    _, pose, cov3 = estimate
+    return (all(math.isfinite(v) for v in pose)
+            and bool(np.all(np.isfinite(cov3))))
+
+
 def _checked_cov(cov):
-    """``cov`` as a floored numpy matrix; ValueError if NaN or negative."""
+    """``cov`` as a floored numpy matrix; ValueError if NaN, huge or negative."""
     cov = np.array(cov, dtype=float, ndmin=2)
     if not np.all(np.isfinite(cov)):
         raise ValueError('covariance has a NaN or infinite entry')
+    if np.any(np.abs(cov) > MAX_VARIANCE):
+        raise ValueError('covariance has an absurd entry %g (above %g)'
+                         % (np.max(np.abs(cov)), MAX_VARIANCE))
     if np.any(np.diag(cov) < 0.0):
         raise ValueError('covariance has a negative variance')
     return floored(cov)

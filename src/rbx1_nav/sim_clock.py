@@ -9,21 +9,30 @@ The wall time is passed in, so the pacing is testable without sleeping.
 """
 import math
 
-__all__ = ['ClockPacer', 'MAX_STEP']
+__all__ = ['ClockPacer', 'MIN_STEP', 'MAX_STEP', 'MIN_SPEED', 'MAX_SPEED',
+           'MAX_START']
 
 MAX_STEP = 0.01  # s of simulated time per tick; nodes see time move smoothly
+MIN_STEP = 1e-9  # s: one nanosecond, the resolution of ROS time
+#: Bounds of the speed (x real time): slower would mean sleeps too long for
+#: the OS, faster only spins the CPU.
+MIN_SPEED, MAX_SPEED = 1e-3, 1e6
+#: Latest start time (s): leaves rospy.Time's 32-bit seconds decades of room.
+MAX_START = 2.0 ** 31
 
 
 class ClockPacer:
     """Tick schedule for a clock running at ``speed`` x real time."""
 
     def __init__(self, speed, step=MAX_STEP, start=0.0, max_lag=0.1):
-        if not (math.isfinite(speed) and speed > 0):
-            raise ValueError('sim speed must be a finite number > 0, got %r' % (speed,))
-        if not (0 < step <= MAX_STEP):
-            raise ValueError('clock step must be in (0, %g] s, got %r' % (MAX_STEP, step))
-        if not (math.isfinite(start) and start >= 0):
-            raise ValueError('start time must be >= 0, got %r' % (start,))
+        if not (math.isfinite(speed) and MIN_SPEED <= speed <= MAX_SPEED):
+            raise ValueError('sim speed must be in [%g, %g], got %r'
+                             % (MIN_SPEED, MAX_SPEED, speed))
+        if not (MIN_STEP <= step <= MAX_STEP):
+            raise ValueError('clock step must be in [%g, %g] s, got %r'
+                             % (MIN_STEP, MAX_STEP, step))
+        if not (math.isfinite(start) and 0 <= start <= MAX_START):
+            raise ValueError('start time must be in [0, %g] s, got %r' % (MAX_START, start))
         self.speed = float(speed)
         self.step_ns = int(round(step * 1e9))
         self.max_lag = max_lag         # wall seconds behind before re-anchoring

@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from rbx1_nav.diff_drive import (DiffDriveConfig, DiffDriveSim, Pose2D,
-                                 arc_step, covariance_from_diagonal)
+from rbx1_nav.diff_drive import (CONFIG_LIMITS, DiffDriveConfig, DiffDriveSim,
+                                 Pose2D, arc_step, covariance_from_diagonal)
 from rbx1_nav.transform_utils import quat_to_angle, yaw_to_quaternion
 
 RATE = 50.0
@@ -314,3 +314,52 @@ def test_defaults_are_valid_and_named():
     assert DiffDriveConfig().problems() == []
     assert 'cmd_timeout' in DiffDriveConfig.names()
     assert DiffDriveConfig().wheel_separation == 0.26
+
+
+@pytest.mark.parametrize('field, value', [('wheel_separation', 1e308), ('wheel_radius', 1e-300),
+                                          ('linear_scale_error', 1e308),
+                                          ('gyro_noise_density', 1e300),
+                                          ('seed', -1), ('seed', True), ('cmd_timeout', True)])
+def test_absurd_config_is_rejected_with_its_name(field, value):
+    assert any(field in p for p in DiffDriveConfig(**{field: value}).problems())
+    with pytest.raises(ValueError, match=field):
+        DiffDriveSim(DiffDriveConfig(**{field: value}))
+
+
+def test_config_from_params_parses_strings_and_names_every_bad_value():
+    cfg = DiffDriveConfig.from_params({'cmd_timeout': '1e3', 'wheel_radius': 0.05,
+                                       'seed': '7'}, prefix='~')
+    assert (cfg.cmd_timeout, cfg.wheel_radius, cfg.seed) == (1000.0, 0.05, 7)
+    assert cfg.problems() == []
+    assert DiffDriveConfig.from_params({'seed': None}).seed is None
+    with pytest.raises(ValueError, match='~publish_imu is not a fake robot'):
+        DiffDriveConfig.from_params({'publish_imu': True}, prefix='~')
+    with pytest.raises(ValueError) as err:
+        DiffDriveConfig.from_params({'cmd_timeout': float('inf'), 'wheel_radius': 0,
+                                     'gyro_bias': 'x', 'seed': 1.5}, prefix='~')
+    for name in ('~cmd_timeout', '~wheel_radius', '~gyro_bias', '~seed'):
+        assert name in str(err.value)
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.sampled_from(sorted(CONFIG_LIMITS)), st.booleans(),
+       st.lists(st.tuples(st.floats(), st.floats(), st.floats(1e-6, 100.0)),
+                min_size=1, max_size=10))
+def test_config_at_its_limits_keeps_the_model_finite(field, at_max, commands):
+    low, high, _ = CONFIG_LIMITS[field]
+    extreme = high if at_max else (low if low != 0 else 1e-300)
+    values = dict(seed=0, encoder_noise=1.0, gyro_noise_density=10.0,
+                  max_linear_speed=100.0, max_angular_speed=100.0,
+                  wheel_separation=10.0)
+    values[field] = extreme
+    sim = DiffDriveSim(DiffDriveConfig(**values))
+    t = 0.0
+    sim.step(t)
+    for v, w, dt in commands:
+        sim.command(v, w, t)
+        t += dt
+        sim.step(t)
+    for value in (sim.truth.x, sim.truth.y, sim.odom.x, sim.odom.y, sim.odom.theta,
+                  sim.gyro_yaw, sim.gyro_rate, *sim.wheel_angles, *sim.wheel_velocities,
+                  *sim.odom_velocity):
+        assert math.isfinite(value)

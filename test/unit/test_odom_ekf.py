@@ -7,7 +7,9 @@ import pytest
 geometry_msgs = pytest.importorskip('geometry_msgs.msg')
 rospy_time = pytest.importorskip('genpy')
 
-from rbx1_nav.odom_ekf import UNKNOWN_VARIANCE, PoseToOdometry  # noqa: E402
+from rbx1_nav.odom_ekf import (MAX_TWIST, MIN_TWIST_DT,  # noqa: E402
+                               UNKNOWN_TWIST_COVARIANCE,
+                               UNKNOWN_VARIANCE, PoseToOdometry)
 from rbx1_nav.transform_utils import strip_leading_slash  # noqa: E402
 
 
@@ -147,3 +149,66 @@ def test_twist_disabled_or_stamp_not_advancing_gives_unknown_zero():
 def test_bad_twist_variance_is_rejected(bad):
     with pytest.raises(ValueError, match='twist_variance'):
         PoseToOdometry(twist_variance=bad)
+
+
+def assert_zero_unknown_twist(odom):
+    t = odom.twist.twist
+    assert (t.linear.x, t.linear.y, t.angular.z) == (0.0, 0.0, 0.0)
+    assert list(odom.twist.covariance) == list(UNKNOWN_TWIST_COVARIANCE)
+
+
+def test_unknown_twist_covariance_is_diagonal_unknown():
+    assert len(UNKNOWN_TWIST_COVARIANCE) == 36
+    assert [UNKNOWN_TWIST_COVARIANCE[7 * i] for i in range(6)] == \
+        [UNKNOWN_VARIANCE] * 6
+    assert sum(UNKNOWN_TWIST_COVARIANCE) == 6 * UNKNOWN_VARIANCE
+
+
+def test_poses_across_the_float_range_give_an_unknown_twist_not_inf():
+    conv = PoseToOdometry()
+    conv.convert(make_pose(x=-1e308, y=0.0, yaw=0.0, t=1.0))
+    odom = conv.convert(make_pose(x=1e308, y=-1e308, yaw=0.0, t=2.0))
+    assert_zero_unknown_twist(odom)
+    # The next ordinary step estimates a twist again.
+    odom = conv.convert(make_pose(x=1e308, y=-1e308, yaw=0.1, t=3.0))
+    assert odom.twist.twist.angular.z == pytest.approx(0.1)
+    assert odom.twist.covariance[0] == 0.01
+
+
+@pytest.mark.parametrize('dt', [1e-9, 5e-4, MIN_TWIST_DT / 2])
+def test_poses_too_close_in_time_give_an_unknown_twist(dt):
+    conv = PoseToOdometry()
+    conv.convert(make_pose(x=0.0, t=1.0))
+    odom = conv.convert(make_pose(x=1000.0, t=1.0 + dt))
+    assert_zero_unknown_twist(odom)
+
+
+def test_poses_just_far_enough_apart_give_a_twist():
+    conv = PoseToOdometry()
+    conv.convert(make_pose(x=0.0, yaw=0.0, t=1.0))
+    odom = conv.convert(make_pose(x=0.01, yaw=0.0, t=1.0 + 2 * MIN_TWIST_DT))
+    assert odom.twist.twist.linear.x == pytest.approx(5.0, rel=1e-3)
+
+
+def test_twist_covariance_is_fresh_per_message():
+    conv = PoseToOdometry()
+    first = conv.convert(make_pose(t=1.0))
+    first.twist.covariance[0] = 42.0  # a subscriber edits its message
+    second = conv.convert(make_pose(t=1.0))
+    assert second.twist.covariance[0] == UNKNOWN_VARIANCE
+
+
+@pytest.mark.parametrize('dx,dyaw,dt', [(2 * MAX_TWIST, 0.0, 1.0), (-1e308, 0.0, 1.0),
+                                        (0.0, 3.0, 2e-3)])
+def test_a_jump_gives_an_unknown_twist(dx, dyaw, dt):
+    conv = PoseToOdometry()
+    conv.convert(make_pose(x=0.0, y=0.0, yaw=0.0, t=1.0))
+    odom = conv.convert(make_pose(x=dx, y=0.0, yaw=dyaw, t=1.0 + dt))
+    assert_zero_unknown_twist(odom)
+
+
+def test_a_fast_but_possible_twist_is_kept():
+    conv = PoseToOdometry()
+    conv.convert(make_pose(x=0.0, y=0.0, yaw=0.0, t=1.0))
+    odom = conv.convert(make_pose(x=0.9 * MAX_TWIST * 0.01, y=0.0, yaw=0.0, t=1.01))
+    assert odom.twist.twist.linear.x == pytest.approx(0.9 * MAX_TWIST)

@@ -5,8 +5,9 @@ import numpy as np
 import pytest
 from hypothesis import given, strategies as st
 
-from rbx1_nav.pose_ekf import (GyroOdomFusion, PlanarEkf, SensorWatch,
-                               covariance_6x6, odom_increment,
+from rbx1_nav.pose_ekf import (MAX_POSITION, MAX_VARIANCE, GyroOdomFusion,
+                               PlanarEkf, SensorWatch, covariance_6x6,
+                               floored, is_finite_estimate, odom_increment,
                                pose_covariance_3x3)
 from rbx1_nav.transform_utils import normalize_angle
 
@@ -275,3 +276,102 @@ def test_non_finite_input_is_rejected(bad):
 def test_needs_at_least_one_sensor():
     with pytest.raises(ValueError):
         GyroOdomFusion(odom_used=False, imu_used=False)
+
+
+# --- absurd but finite input -------------------------------------------------
+
+@pytest.mark.parametrize('huge', [1e308, MAX_VARIANCE * 10, -1e308])
+def test_absurd_covariances_are_rejected(huge):
+    fusion = GyroOdomFusion()
+    with pytest.raises(ValueError, match='absurd'):
+        fusion.add_odom(0.0, 0.0, (0.0, 0.0, 0.0), np.diag([1e-4, 1e-4, abs(huge)]))
+    cov = ODOM_COV.copy()
+    cov[0, 1] = cov[1, 0] = huge
+    with pytest.raises(ValueError, match='absurd'):
+        fusion.add_odom(0.0, 0.0, (0.0, 0.0, 0.0), cov)
+    with pytest.raises(ValueError, match='absurd'):
+        fusion.add_imu(0.0, 0.0, 0.0, abs(huge))
+    fusion.step(0.0)
+    assert fusion.estimate is None
+
+
+def test_variances_at_the_cap_are_accepted_and_stay_finite():
+    fusion = GyroOdomFusion()
+    odom, events = (0.0, 0.0, 0.0), []
+    for k in range(3000):  # 100 s at 30 Hz, driving in circles
+        t = k / 30.0
+        odom = compose(odom, (0.02, 0.0, 0.02))
+        fusion.add_odom(t, t, odom, np.full((3, 3), MAX_VARIANCE))
+        fusion.add_imu(t, t, odom[2], MAX_VARIANCE)
+        events += fusion.step(t)
+        assert is_finite_estimate(fusion.estimate)
+    assert fusion.estimate[1] == pytest.approx(odom, abs=1e-6)
+    assert not any('restarted' in text for _, text in events)
+
+
+@pytest.mark.parametrize('x', [1e308, -1e308, MAX_POSITION * 1.01])
+def test_absurd_positions_are_rejected(x):
+    fusion = GyroOdomFusion()
+    with pytest.raises(ValueError, match='absurd'):
+        fusion.add_odom(0.0, 0.0, (x, 0.0, 0.0), ODOM_COV)
+    with pytest.raises(ValueError, match='absurd'):
+        fusion.add_odom(0.0, 0.0, (0.0, x, 0.0), ODOM_COV)
+
+
+def test_odometry_jumping_across_the_float_range_never_gives_nan():
+    fusion = GyroOdomFusion()
+    for k, x in enumerate((0.0, -1e308, 1e308, 1.0)):
+        t = 0.1 * k
+        try:
+            fusion.add_odom(t, t, (x, 0.0, 0.0), ODOM_COV)
+        except ValueError:
+            pass
+        fusion.add_imu(t, t, 0.0, GYRO_VAR)
+        fusion.step(t)
+        assert is_finite_estimate(fusion.estimate)
+    assert fusion.estimate[1] == pytest.approx((1.0, 0.0, 0.0))
+
+
+def test_increment_that_overflows_is_an_error():
+    with pytest.raises(ValueError, match='not finite'):
+        odom_increment((-1e308, 0.0, 0.0), (1e308, 0.0, 0.0))
+    with pytest.raises(ValueError, match='not finite'):
+        odom_increment((0.0, 0.0, -1e308), (0.0, 0.0, 1e308))
+
+
+def test_floored_does_not_overflow_near_the_float_limit():
+    cov = floored(np.diag([1.7e308, 1.0, 1.0]))
+    assert np.all(np.isfinite(cov)) and cov[0, 0] == 1.7e308
+
+
+def test_a_filter_that_blows_up_restarts_from_the_next_odometry():
+    robot = Robot(GyroOdomFusion())
+    robot.run(1.0, v=0.5)
+    robot.fusion.ekf.cov[0, 0] = float('inf')  # however it got there
+    robot.run(1.0 / 30.0, v=0.5)
+    restarts = [(lvl, t) for lvl, t in robot.events if 'restarted' in t]
+    assert restarts == [('warn', 'filter restarted: the estimate is no longer '
+                         'finite; it starts again from the next odometry message')]
+    assert robot.fusion.estimate is None and not robot.fusion.updated
+    robot.run(1.0 / 30.0, v=0.5)  # the next odometry restarts it there
+    _, pose, cov = robot.fusion.estimate
+    assert pose == pytest.approx(robot.odom) and np.allclose(cov, ODOM_COV)
+    robot.run(1.0, v=0.5)
+    assert robot.fusion.estimate[1] == pytest.approx(robot.odom, abs=1e-3)
+    assert is_finite_estimate(robot.fusion.estimate)
+
+
+def test_a_nan_yaw_in_the_filter_restarts_it_instead_of_raising():
+    robot = Robot(GyroOdomFusion())
+    robot.run(1.0, w=0.5)
+    robot.fusion.ekf.mean[2] = float('nan')
+    robot.run(1.0 / 30.0, w=0.5)
+    assert any('restarted' in t for _, t in robot.events)
+    assert robot.fusion.estimate is None
+
+
+def test_is_finite_estimate():
+    assert is_finite_estimate(None)
+    assert is_finite_estimate((0.0, (1.0, 2.0, 3.0), np.eye(3)))
+    assert not is_finite_estimate((0.0, (1.0, float('nan'), 3.0), np.eye(3)))
+    assert not is_finite_estimate((0.0, (1.0, 2.0, 3.0), np.full((3, 3), np.inf)))

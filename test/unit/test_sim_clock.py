@@ -36,7 +36,18 @@ def test_falling_behind_slows_the_clock_instead_of_bursting():
 
 
 @pytest.mark.parametrize('args', [(0.0,), (float('inf'),), (-1.0,), (1.0, 0.02),
-                                  (1.0, 0.0), (1.0, 0.01, -5.0)])
+                                  (1.0, 0.0), (1.0, 0.01, -5.0), (float('nan'),),
+                                  (1e-300,), (1e300,), (1.0, float('nan')),
+                                  (1.0, 1e-300), (1.0, 0.01, float('nan')),
+                                  (1.0, 0.01, 1e308)])
 def test_invalid_settings_are_rejected(args):
     with pytest.raises(ValueError):
         ClockPacer(*args)
+
+
+def test_extreme_but_valid_settings_give_sane_waits():
+    for speed, step, start in ((1e-3, 0.01, 0.0), (1e6, 1e-9, 2.0 ** 31)):
+        pacer = ClockPacer(speed, step, start)
+        sim_ns, wait = pacer.advance(100.0)
+        assert sim_ns == int(round(start * 1e9)) + int(round(step * 1e9))
+        assert wait == pytest.approx(step / speed)

@@ -1,0 +1,132 @@
+"""Checks for ROS parameter values, shared by every node of the package.
+
+A node reads a raw value with ``rospy.get_param`` and passes it, with the
+parameter's name, to one of these functions. Each returns the value in the
+type the node needs or raises ValueError with a message that names the
+parameter, so the node can log one clear line and exit. No rospy here.
+
+Parameter servers are loose about types: YAML 1.1 (rosparam) reads ``1e6``
+as a string, and ``_publish_tf:=false`` on a command line or ``value="false"``
+in a launch file arrive as booleans, but a quoted ``'false'`` arrives as a
+string. So numbers are accepted as numeric strings too, and flags as the
+strings 'true' / 'false'; bools are never numbers and numbers never flags.
+"""
+import math
+import numbers
+
+from rbx1_nav.transform_utils import strip_leading_slash
+
+__all__ = ['number', 'integer', 'flag', 'frame', 'text', 'number_list']
+
+
+def _as_float(name, value):
+    """``value`` as a float: a real number or a numeric string, not a bool."""
+    if isinstance(value, bool) or not isinstance(value, (numbers.Real, str)):
+        raise ValueError('%s must be a number, got %r' % (name, value))
+    try:
+        return float(value.strip() if isinstance(value, str) else value)
+    except (ValueError, OverflowError):
+        raise ValueError('%s must be a number, got %r' % (name, value))
+
+
+def _range_text(minimum, maximum, allow_zero):
+    """'>= 0 and <= 5', '> 0', ... for an error message."""
+    parts = []
+    if minimum is not None:
+        exclusive = minimum == 0 and not allow_zero
+        parts.append('%s %g' % ('>' if exclusive else '>=', minimum))
+    zero_in_range = ((minimum is None or minimum < 0)
+                     and (maximum is None or maximum > 0))
+    if not allow_zero and zero_in_range:
+        parts.append('!= 0')
+    if maximum is not None:
+        parts.append('<= %g' % maximum)
+    return ' and '.join(parts)
+
+
+def number(name, value, minimum=None, maximum=None, allow_zero=True):
+    """``value`` as a finite float within ``[minimum, maximum]``.
+
+    Accepts ints, floats and numeric strings ('1e6'); rejects bools, NaN,
+    infinity, values outside the bounds (both inclusive; None = unbounded)
+    and, if ``allow_zero`` is false, zero: ``minimum=0, allow_zero=False``
+    means "> 0".
+    """
+    result = _as_float(name, value)
+    if not math.isfinite(result):
+        raise ValueError('%s must be a finite number, got %r' % (name, value))
+    if ((minimum is not None and result < minimum)
+            or (maximum is not None and result > maximum)
+            or (not allow_zero and result == 0.0)):
+        raise ValueError('%s must be %s, got %r' % (
+            name, _range_text(minimum, maximum, allow_zero), value))
+    return result
+
+
+def integer(name, value, minimum=None, maximum=None):
+    """``value`` as an int within ``[minimum, maximum]``.
+
+    Accepts ints, integral floats (3.0) and strings of either ('3', '1e3');
+    rejects bools, fractions, NaN and infinity.
+    """
+    if isinstance(value, int) and not isinstance(value, bool):
+        result = value
+    else:
+        as_float = _as_float(name, value)
+        if not (math.isfinite(as_float) and as_float.is_integer()):
+            raise ValueError('%s must be an integer, got %r' % (name, value))
+        result = int(as_float)
+    if ((minimum is not None and result < minimum)
+            or (maximum is not None and result > maximum)):
+        raise ValueError('%s must be an integer %s, got %r' % (
+            name, _range_text(minimum, maximum, True), value))
+    return result
+
+
+def flag(name, value):
+    """``value`` as a bool: a bool, or the string 'true' or 'false' (any case).
+
+    Anything else (numbers, 'yes', '') is a ValueError rather than a guess:
+    ``bool('false')`` is True, which is how flags silently misbehave.
+    """
+    if isinstance(value, bool):
+        return value
+    if isinstance(value, str) and value.strip().lower() in ('true', 'false'):
+        return value.strip().lower() == 'true'
+    raise ValueError('%s must be true or false, got %r' % (name, value))
+
+
+def text(name, value, allow_empty=False):
+    """``value`` as a string with surrounding whitespace removed."""
+    if not isinstance(value, str):
+        raise ValueError('%s must be a string, got %r' % (name, value))
+    result = value.strip()
+    if not result and not allow_empty:
+        raise ValueError('%s must not be empty' % name)
+    return result
+
+
+def frame(name, value, allow_empty=False):
+    """``value`` as a tf2 frame id: a string, whitespace and leading '/' removed.
+
+    A frame id with whitespace inside is a ValueError, and so is an empty
+    one unless ``allow_empty`` (for parameters where empty means
+    "automatic" or "from the input").
+    """
+    result = strip_leading_slash(text(name, value, allow_empty=True))
+    if any(c.isspace() for c in result):
+        raise ValueError('%s must be a frame id without spaces, got %r'
+                         % (name, value))
+    if not result and not allow_empty:
+        raise ValueError('%s must name a frame, got %r' % (name, value))
+    return result
+
+
+def number_list(name, value, length, minimum=None, maximum=None,
+                allow_zero=True):
+    """``value`` as a list of ``length`` floats, each checked like :func:`number`."""
+    if not isinstance(value, (list, tuple)) or len(value) != length:
+        raise ValueError('%s must be a list of %d numbers, got %r'
+                         % (name, length, value))
+    return [number('%s[%d]' % (name, i), item, minimum, maximum, allow_zero)
+            for i, item in enumerate(value)]

@@ -1,0 +1,176 @@
+"""Unit tests for rbx1_nav.params, the parameter checks every node uses."""
+import math
+
+import pytest
+from hypothesis import given, strategies as st
+
+from rbx1_nav.params import flag, frame, integer, number, number_list, text
+
+finite = st.floats(allow_nan=False, allow_infinity=False)
+
+
+# --- number ------------------------------------------------------------------
+
+@given(finite)
+def test_number_accepts_floats_and_their_strings(value):
+    assert number('~x', value) == value
+    assert number('~x', repr(value)) == value
+    assert number('~x', ' %r ' % value) == value
+
+
+@pytest.mark.parametrize('raw,expected', [(3, 3.0), ('1e6', 1e6), ('-2', -2.0),
+                                          (0, 0.0), ('.5', 0.5)])
+def test_number_converts(raw, expected):
+    result = number('~x', raw)
+    assert result == expected and type(result) is float
+
+
+@pytest.mark.parametrize('bad', [True, False, None, 'fast', '', [1.0], {'a': 1},
+                                 10 ** 400])
+def test_number_rejects_non_numbers_naming_the_parameter(bad):
+    with pytest.raises(ValueError, match=r'~rate must be a number'):
+        number('~rate', bad)
+
+
+@pytest.mark.parametrize('bad', [math.nan, math.inf, -math.inf, '.nan', 'inf',
+                                 '-Infinity', 'nan'])
+def test_number_rejects_nan_and_infinity(bad):
+    with pytest.raises(ValueError, match=r'~freq must be a (finite )?number'):
+        number('~freq', bad)
+
+
+def test_number_bounds_are_inclusive_and_zero_can_be_excluded():
+    assert number('~r', 0.0, minimum=0.0) == 0.0
+    assert number('~r', 1000, minimum=0.0, maximum=1000.0) == 1000.0
+    assert number('~r', 5e-324, minimum=0.0, allow_zero=False) == 5e-324
+    with pytest.raises(ValueError, match=r'~r must be > 0 and <= 1000, got 0'):
+        number('~r', 0, minimum=0.0, maximum=1000.0, allow_zero=False)
+    with pytest.raises(ValueError, match=r'~r must be > 0 and <= 1000, got 1e\+308'):
+        number('~r', 1e308, minimum=0.0, maximum=1000.0, allow_zero=False)
+    with pytest.raises(ValueError, match=r'~r must be >= 1, got 0.5'):
+        number('~r', 0.5, minimum=1.0)
+    with pytest.raises(ValueError, match=r'~r must be != 0'):
+        number('~r', '0', allow_zero=False)
+    with pytest.raises(ValueError, match=r"got '-1'"):
+        number('~r', '-1', minimum=0.0)
+
+
+@given(finite, finite, finite)
+def test_number_result_always_within_bounds(value, a, b):
+    low, high = min(a, b), max(a, b)
+    try:
+        result = number('~x', value, minimum=low, maximum=high)
+    except ValueError as err:
+        assert '~x' in str(err)
+        assert not low <= value <= high
+    else:
+        assert low <= result <= high and result == value
+
+
+# --- integer -----------------------------------------------------------------
+
+@pytest.mark.parametrize('raw,expected', [(3, 3), (3.0, 3), ('4', 4), ('1e3', 1000),
+                                          (-2, -2)])
+def test_integer_converts(raw, expected):
+    result = integer('~legs', raw)
+    assert result == expected and type(result) is int
+
+
+@pytest.mark.parametrize('bad', [1.5, '2.5', True, math.nan, math.inf, None, 'x'])
+def test_integer_rejects_non_integers(bad):
+    with pytest.raises(ValueError, match='~legs must be'):
+        integer('~legs', bad)
+
+
+def test_integer_bounds():
+    assert integer('~seed', 0, minimum=0) == 0
+    with pytest.raises(ValueError, match=r'~seed must be an integer >= 0, got -1'):
+        integer('~seed', -1, minimum=0)
+    with pytest.raises(ValueError, match=r'<= 10'):
+        integer('~legs', 11, minimum=1, maximum=10)
+
+
+# --- flag --------------------------------------------------------------------
+
+@pytest.mark.parametrize('raw,expected', [(True, True), (False, False),
+                                          ('false', False), ('False', False),
+                                          ('TRUE', True), (' true ', True)])
+def test_flag_accepts_bools_and_their_strings(raw, expected):
+    assert flag('~publish_tf', raw) is expected
+
+
+@pytest.mark.parametrize('bad', ['yes', 'no', '', 0, 1, 1.0, None, 'flase', [True]])
+def test_flag_rejects_everything_else(bad):
+    with pytest.raises(ValueError, match='~publish_tf must be true or false'):
+        flag('~publish_tf', bad)
+
+
+# --- frame and text ----------------------------------------------------------
+
+@pytest.mark.parametrize('raw,expected', [('odom', 'odom'), ('/odom', 'odom'),
+                                          ('//robot1/base_link', 'robot1/base_link'),
+                                          ('  /map ', 'map')])
+def test_frame_strips_whitespace_and_leading_slashes(raw, expected):
+    assert frame('~odom_frame', raw) == expected
+
+
+@pytest.mark.parametrize('bad', ['', '  ', '/', '/ odom', 'base link', 5, None,
+                                 ['odom'], True])
+def test_frame_rejects_non_strings_and_empty(bad):
+    with pytest.raises(ValueError, match='~odom_frame must'):
+        frame('~odom_frame', bad)
+
+
+def test_frame_may_be_empty_where_that_means_automatic():
+    assert frame('~base_frame', '', allow_empty=True) == ''
+    assert frame('~base_frame', ' / ', allow_empty=True) == ''
+    with pytest.raises(ValueError, match='~base_frame must be a string'):
+        frame('~base_frame', 3, allow_empty=True)
+
+
+@given(st.text())
+def test_frame_never_returns_a_leading_slash_or_padding(raw):
+    try:
+        result = frame('~f', raw, allow_empty=True)
+    except ValueError:
+        return
+    assert not result.startswith('/')
+    assert not any(c.isspace() for c in result)
+    assert result == raw.strip().lstrip('/')
+
+
+def test_text():
+    assert text('~left_wheel_joint', ' wheel_l ') == 'wheel_l'
+    for bad in ('', 7, None):
+        with pytest.raises(ValueError, match='~left_wheel_joint must'):
+            text('~left_wheel_joint', bad)
+
+
+# --- number_list -------------------------------------------------------------
+
+def test_number_list_converts_each_item():
+    assert number_list('~d', [1, '1e6', 0.5], 3, minimum=0.0) == [1.0, 1e6, 0.5]
+    assert number_list('~d', (1, 2), 2) == [1.0, 2.0]
+
+
+@pytest.mark.parametrize('bad,message', [
+    ({'x': 1}, r'~d must be a list of 3 numbers'),
+    ('1 2 3', r'~d must be a list of 3 numbers'),
+    ([1, 2], r'~d must be a list of 3 numbers'),
+    (None, r'~d must be a list of 3 numbers'),
+    ([1, math.nan, 1], r'~d\[1\] must be a finite number'),
+    ([1, 1, 0], r'~d\[2\] must be > 0'),
+    ([1, 'x', 1], r'~d\[1\] must be a number'),
+])
+def test_number_list_rejects_with_the_parameter_and_index(bad, message):
+    with pytest.raises(ValueError, match=message):
+        number_list('~d', bad, 3, minimum=0.0, allow_zero=False)
+
+
+def test_range_message_mentions_zero_only_when_it_is_in_range():
+    with pytest.raises(ValueError) as err:
+        number('~w', 0.0, minimum=1e-3, maximum=10.0, allow_zero=False)
+    assert str(err.value) == '~w must be >= 0.001 and <= 10, got 0.0'
+    with pytest.raises(ValueError) as err:
+        number('~b', 0, minimum=-1.0, maximum=1.0, allow_zero=False)
+    assert str(err.value) == '~b must be >= -1 and != 0 and <= 1, got 0'
