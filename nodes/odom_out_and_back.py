@@ -41,10 +41,12 @@ class CourseAborted(Exception):
     """The course cannot go on; the message says why, for the log."""
 
 
-# Course settings that are plain numbers; CourseConfig checks their ranges.
-COURSE_NUMBERS = ('linear_speed', 'goal_distance', 'angular_speed',
-                  'goal_angle', 'pause', 'precise_gain', 'precise_heading_gain',
-                  'precise_min_linear_speed', 'precise_min_angular_speed')
+# Course settings passed to CourseConfig as read (it checks them);
+# ~angular_tolerance is read separately, in degrees as in the book.
+COURSE_SETTINGS = ('linear_speed', 'goal_distance', 'angular_speed',
+                   'goal_angle', 'legs', 'pause', 'precise', 'precise_gain',
+                   'precise_heading_gain', 'precise_min_linear_speed',
+                   'precise_min_angular_speed')
 
 
 def read_settings():
@@ -64,13 +66,11 @@ def read_settings():
             return default
 
     defaults = CourseConfig()
-    values = dict((name, read(name, getattr(defaults, name), params.number))
-                  for name in COURSE_NUMBERS)
-    values['legs'] = read('legs', defaults.legs, params.integer)
-    values['precise'] = read('precise', defaults.precise, params.flag)
-    values['angular_tolerance'] = math.radians(
+    config = CourseConfig(**dict(
+        (name, rospy.get_param('~' + name, getattr(defaults, name)))
+        for name in COURSE_SETTINGS))
+    config.angular_tolerance = math.radians(
         read('angular_tolerance', 1.0, params.number))
-    config = CourseConfig(**values)
     problems.extend('~' + p for p in config.problems())
     positive = dict(minimum=0.0, allow_zero=False)
     settings = {
@@ -83,7 +83,7 @@ def read_settings():
     }
     if problems:
         raise ValueError('; '.join(problems))
-    return config, settings
+    return config.validate(), settings
 
 
 def describe(config, settings):

@@ -22,6 +22,7 @@ control step at creep speed.
 import math
 from collections import namedtuple
 
+from rbx1_nav import params
 from rbx1_nav.transform_utils import normalize_angle
 
 __all__ = ['Pose2D', 'Command', 'STOP', 'CourseConfig', 'OutAndBack',
@@ -74,51 +75,45 @@ class CourseConfig(object):
         self.precise_min_linear_speed = precise_min_linear_speed
         self.precise_min_angular_speed = precise_min_angular_speed
 
+    def _checked(self):
+        """(settings converted to their types, problems found) via params."""
+        positive = dict(minimum=0.0, allow_zero=False)
+        checks = (
+            ('linear_speed', params.number,
+             dict(maximum=self.MAX_LINEAR_SPEED, **positive)),
+            ('angular_speed', params.number,
+             dict(maximum=self.MAX_ANGULAR_SPEED, **positive)),
+            ('goal_distance', params.number, {}),
+            ('goal_angle', params.number, {}),
+            ('angular_tolerance', params.number, dict(minimum=0.0)),
+            ('pause', params.number, dict(minimum=0.0)),
+            ('legs', params.integer, dict(minimum=1, maximum=self.MAX_LEGS)),
+            ('precise', params.flag, {}),
+            ('precise_gain', params.number, positive),
+            ('precise_heading_gain', params.number, positive),
+            ('precise_min_linear_speed', params.number,
+             dict(maximum=self.MAX_LINEAR_SPEED, **positive)),
+            ('precise_min_angular_speed', params.number,
+             dict(maximum=self.MAX_ANGULAR_SPEED, **positive)),
+        )
+        values, found = {}, []
+        for name, check, options in checks:
+            try:
+                values[name] = check(name, getattr(self, name), **options)
+            except ValueError as err:
+                found.append(str(err))
+        return values, found
+
     def problems(self):
         """A list of human-readable reasons the settings are unusable."""
-        found = []
-
-        def number(name, allow_zero=True, allow_negative=True, maximum=None):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                found.append('%s must be a number, got %r' % (name, value))
-            elif not math.isfinite(value):
-                found.append('%s must be finite, got %r' % (name, value))
-            elif value < 0 and not allow_negative:
-                found.append('%s must not be negative, got %r' % (name, value))
-            elif value == 0 and not allow_zero:
-                found.append('%s must be positive, got %r' % (name, value))
-            elif maximum is not None and abs(value) > maximum:
-                found.append('%s must be at most %g, got %r' % (name, maximum,
-                                                                value))
-
-        for name, maximum in (('linear_speed', self.MAX_LINEAR_SPEED),
-                              ('angular_speed', self.MAX_ANGULAR_SPEED),
-                              ('precise_gain', None),
-                              ('precise_heading_gain', None),
-                              ('precise_min_linear_speed', self.MAX_LINEAR_SPEED),
-                              ('precise_min_angular_speed',
-                               self.MAX_ANGULAR_SPEED)):
-            number(name, allow_zero=False, allow_negative=False, maximum=maximum)
-        for name in ('goal_distance', 'goal_angle'):
-            number(name)
-        for name in ('angular_tolerance', 'pause'):
-            number(name, allow_negative=False)
-        if not isinstance(self.precise, bool):
-            found.append('precise must be true or false, got %r' % (self.precise,))
-        legs = self.legs
-        if (isinstance(legs, bool) or not isinstance(legs, (int, float))
-                or not math.isfinite(legs) or legs != int(legs) or legs < 1
-                or legs > self.MAX_LEGS):
-            found.append('legs must be a whole number from 1 to %d, got %r'
-                         % (self.MAX_LEGS, legs))
-        return found
+        return self._checked()[1]
 
     def validate(self):
-        """Raise ValueError naming every problem, if there are any."""
-        found = self.problems()
+        """Store every setting in its type; raise ValueError naming every problem."""
+        values, found = self._checked()
         if found:
             raise ValueError('; '.join(found))
+        self.__dict__.update(values)
         return self
 
 

@@ -343,26 +343,32 @@ def test_expected_end_pose_of_a_square():
 
 
 @pytest.mark.parametrize('field, value, words', [
-    ('linear_speed', 0.0, 'linear_speed must be positive'),
-    ('linear_speed', -0.1, 'linear_speed must not be negative'),
-    ('angular_speed', float('nan'), 'angular_speed must be finite'),
-    ('goal_distance', float('inf'), 'goal_distance must be finite'),
+    ('linear_speed', 0.0, r'linear_speed must be > 0 and <= 2,'),
+    ('linear_speed', -0.1, r'linear_speed must be > 0'),
+    ('angular_speed', float('nan'), 'angular_speed must be a finite number'),
+    ('goal_distance', float('inf'), 'goal_distance must be a finite number'),
     ('goal_angle', 'pi', 'goal_angle must be a number'),
-    ('angular_tolerance', -1.0, 'angular_tolerance must not be negative'),
-    ('legs', 0, 'legs must be a whole number'),
-    ('legs', 1.5, 'legs must be a whole number'),
-    ('legs', True, 'legs must be a whole number'),
-    ('pause', float('nan'), 'pause must be finite'),
-    ('precise_min_linear_speed', 0.0, 'precise_min_linear_speed must be positive'),
+    ('angular_tolerance', -1.0, 'angular_tolerance must be >= 0'),
+    ('legs', 0, 'legs must be an integer >= 1 and <= 1000'),
+    ('legs', 1.5, 'legs must be an integer'),
+    ('legs', True, 'legs must be a number'),
+    ('pause', float('nan'), 'pause must be a finite number'),
+    ('precise_min_linear_speed', 0.0, 'precise_min_linear_speed must be > 0'),
     ('precise', 'yes', 'precise must be true or false'),
-    ('linear_speed', 100.0, 'linear_speed must be at most 2'),
-    ('angular_speed', 50.0, 'angular_speed must be at most 6.28'),
-    ('legs', 10 ** 9, 'legs must be a whole number from 1 to 1000'),
+    ('linear_speed', 100.0, 'linear_speed must be > 0 and <= 2,'),
+    ('angular_speed', 50.0, r'angular_speed must be > 0 and <= 6.28'),
+    ('legs', 10 ** 9, 'legs must be an integer >= 1 and <= 1000'),
 ])
 def test_absurd_settings_are_rejected_by_name(field, value, words):
     cfg = CourseConfig(**{field: value})
     with pytest.raises(ValueError, match=words):
         OutAndBack(cfg)
+
+
+def test_numeric_strings_are_accepted_and_converted():
+    # rosparam reads 1e-1 as a string; the checks accept it as a number.
+    cfg = OutAndBack(CourseConfig(linear_speed='1e-1', legs='3')).config
+    assert cfg.linear_speed == 0.1 and cfg.legs == 3
 
 
 def test_all_problems_are_reported_together():
