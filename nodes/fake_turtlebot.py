@@ -62,7 +62,7 @@ def fill_odometry(msg, stamp, frame_id, child, pose, velocity):
     msg.child_frame_id = child
     msg.pose.pose.position.x = pose.x
     msg.pose.pose.position.y = pose.y
-    msg.pose.pose.orientation = Quaternion(*yaw_to_quaternion(pose.theta))
+    msg.pose.pose.orientation = Quaternion(*yaw_to_quaternion(pose.yaw))
     msg.twist.twist.linear.x, msg.twist.twist.angular.z = velocity
     return msg
 

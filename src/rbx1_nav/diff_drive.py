@@ -27,8 +27,9 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from rbx1_nav.params import integer, number
+from rbx1_nav.transform_utils import Pose2D
 
-__all__ = ['Pose2D', 'DiffDriveConfig', 'DiffDriveSim', 'arc_step',
+__all__ = ['DiffDriveConfig', 'DiffDriveSim', 'arc_step',
            'covariance_from_diagonal',
            'DEFAULT_COVARIANCE_DIAGONAL', 'CONFIG_LIMITS']
 
@@ -36,13 +37,6 @@ __all__ = ['Pose2D', 'DiffDriveConfig', 'DiffDriveSim', 'arc_step',
 # large values for the rest follow the TurtleBot driver's convention.
 DEFAULT_COVARIANCE_DIAGONAL = (1e-3, 1e-3, 1e6, 1e6, 1e6, 1e-3)
 
-
-@dataclass
-class Pose2D:
-    """A planar pose: position in metres, heading in radians in [-pi, pi]."""
-    x: float = 0.0
-    y: float = 0.0
-    theta: float = 0.0
 
 
 def arc_step(pose, ds, dtheta):
@@ -55,10 +49,10 @@ def arc_step(pose, ds, dtheta):
     at ``dtheta == 0``.
     """
     chord = ds * float(np.sinc(dtheta / (2.0 * math.pi)))
-    heading = pose.theta + 0.5 * dtheta
+    heading = pose.yaw + 0.5 * dtheta
     return Pose2D(pose.x + chord * math.cos(heading),
                   pose.y + chord * math.sin(heading),
-                  math.remainder(pose.theta + dtheta, 2.0 * math.pi))
+                  math.remainder(pose.yaw + dtheta, 2.0 * math.pi))
 
 
 def covariance_from_diagonal(diagonal):

@@ -23,13 +23,10 @@ import math
 from collections import namedtuple
 
 from rbx1_nav import params
-from rbx1_nav.transform_utils import normalize_angle
+from rbx1_nav.transform_utils import Pose2D, normalize_angle
 
 __all__ = ['Pose2D', 'Command', 'STOP', 'CourseConfig', 'OutAndBack',
            'expected_end_pose', 'pose_error']
-
-Pose2D = namedtuple('Pose2D', 'x y yaw')
-Pose2D.__doc__ = 'A planar pose: position (m) and heading (rad).'
 
 Command = namedtuple('Command', 'linear angular')
 Command.__doc__ = 'A velocity command: forward speed (m/s), turn rate (rad/s).'

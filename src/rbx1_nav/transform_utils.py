@@ -5,9 +5,13 @@ Pure Python (no rospy, no PyKDL) so the out-and-back logic and its tests can
 use it without a ROS installation.
 """
 import math
+from collections import namedtuple
 
-__all__ = ['quat_to_angle', 'yaw_to_quaternion', 'normalize_angle',
+__all__ = ['Pose2D', 'quat_to_angle', 'yaw_to_quaternion', 'normalize_angle',
            'strip_leading_slash']
+
+Pose2D = namedtuple('Pose2D', 'x y yaw', defaults=(0.0, 0.0, 0.0))
+Pose2D.__doc__ = 'A planar pose: position (m) and heading (rad).'
 
 
 def _quat_components(q):

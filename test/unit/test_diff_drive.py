@@ -6,8 +6,8 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from rbx1_nav.diff_drive import (CONFIG_LIMITS, DiffDriveConfig, DiffDriveSim,
-                                 Pose2D, arc_step, covariance_from_diagonal)
-from rbx1_nav.transform_utils import quat_to_angle, yaw_to_quaternion
+                                 arc_step, covariance_from_diagonal)
+from rbx1_nav.transform_utils import Pose2D, quat_to_angle, yaw_to_quaternion
 
 RATE = 50.0
 
@@ -31,20 +31,20 @@ def ideal(**overrides):
 
 def test_straight_line():
     p = arc_step(Pose2D(1.0, 2.0, math.pi / 2), 0.4, 0.0)
-    assert (p.x, p.y, p.theta) == pytest.approx((1.0, 2.4, math.pi / 2), abs=1e-12)
+    assert (p.x, p.y, p.yaw) == pytest.approx((1.0, 2.4, math.pi / 2), abs=1e-12)
 
 
 def test_quarter_arc_ends_where_geometry_says():
     radius = 0.4
     p = arc_step(Pose2D(), radius * math.pi / 2, math.pi / 2)
-    assert (p.x, p.y, p.theta) == pytest.approx((radius, radius, math.pi / 2), abs=1e-9)
+    assert (p.x, p.y, p.yaw) == pytest.approx((radius, radius, math.pi / 2), abs=1e-9)
     p = arc_step(Pose2D(), radius * math.pi / 2, -math.pi / 2)  # turning right
-    assert (p.x, p.y, p.theta) == pytest.approx((radius, -radius, -math.pi / 2), abs=1e-9)
+    assert (p.x, p.y, p.yaw) == pytest.approx((radius, -radius, -math.pi / 2), abs=1e-9)
 
 
 def test_turning_in_place_does_not_translate():
     p = arc_step(Pose2D(0.3, -0.2, 0.1), 0.0, 2.5)
-    assert (p.x, p.y, p.theta) == pytest.approx((0.3, -0.2, 2.6), abs=1e-12)
+    assert (p.x, p.y, p.yaw) == pytest.approx((0.3, -0.2, 2.6), abs=1e-12)
 
 
 steps = st.floats(-5.0, 5.0, allow_nan=False)
@@ -66,8 +66,8 @@ def test_arc_matches_circle_geometry(theta, ds, dtheta):
             th += dtheta / n
         expected = (x, y)
     assert (p.x, p.y) == pytest.approx(expected, abs=1e-9)
-    assert math.cos(p.theta) == pytest.approx(math.cos(theta + dtheta), abs=1e-9)
-    assert math.sin(p.theta) == pytest.approx(math.sin(theta + dtheta), abs=1e-9)
+    assert math.cos(p.yaw) == pytest.approx(math.cos(theta + dtheta), abs=1e-9)
+    assert math.sin(p.yaw) == pytest.approx(math.sin(theta + dtheta), abs=1e-9)
 
 
 @given(st.floats(-math.pi, math.pi), steps, steps)
@@ -83,7 +83,7 @@ def test_two_half_steps_equal_one_step(theta, ds, dtheta):
 def test_two_seconds_at_0_2_m_per_s_is_0_4_m():
     sim = ideal()
     drive(sim, 0.2, 0.0, 2.0)
-    assert (sim.truth.x, sim.truth.y, sim.truth.theta) == pytest.approx((0.4, 0, 0), abs=1e-9)
+    assert (sim.truth.x, sim.truth.y, sim.truth.yaw) == pytest.approx((0.4, 0, 0), abs=1e-9)
     assert (sim.odom.x, sim.odom.y) == pytest.approx((0.4, 0.0), abs=1e-9)
 
 
@@ -93,7 +93,7 @@ def test_full_circle_returns_to_start():
     drive(sim, 0.2, w, 2 * math.pi / w, rate=1.0 / (2 * math.pi / w / 629))
     assert math.hypot(sim.truth.x, sim.truth.y) < 1e-3
     assert math.hypot(sim.truth.x, sim.truth.y) < 1e-9  # it is in fact exact
-    assert abs(math.remainder(sim.truth.theta, 2 * math.pi)) < 1e-9
+    assert abs(math.remainder(sim.truth.yaw, 2 * math.pi)) < 1e-9
 
 
 def test_first_step_only_sets_the_clock():
@@ -133,7 +133,7 @@ def test_non_finite_command_is_rejected_as_stop(v, w):
     assert sim.command(v, w, 0.2) == 'non-finite'
     sim.step(0.22)
     assert sim.velocity == (0.0, 0.0)
-    assert all(math.isfinite(c) for c in (sim.truth.x, sim.truth.y, sim.truth.theta))
+    assert all(math.isfinite(c) for c in (sim.truth.x, sim.truth.y, sim.truth.yaw))
 
 
 def test_absurd_speeds_are_clamped():
@@ -158,8 +158,8 @@ def test_any_input_leaves_the_pose_finite(commands):
         sim.command(v, w, t)
         t += dt
         sim.step(t)
-        for value in (sim.truth.x, sim.truth.y, sim.truth.theta, sim.odom.x,
-                      sim.odom.y, sim.odom.theta, sim.gyro_yaw, *sim.wheel_angles):
+        for value in (sim.truth.x, sim.truth.y, sim.truth.yaw, sim.odom.x,
+                      sim.odom.y, sim.odom.yaw, sim.gyro_yaw, *sim.wheel_angles):
             assert math.isfinite(value)
         assert abs(sim.velocity[0]) <= cfg.max_linear_speed
         assert abs(sim.velocity[1]) <= cfg.max_angular_speed
@@ -221,8 +221,8 @@ def test_scale_errors_distort_odometry_not_truth():
     assert sim.truth.x == pytest.approx(0.4, abs=1e-9)
     assert sim.odom.x == pytest.approx(1.1 * 0.4, abs=1e-9)
     drive(sim, 0.0, 0.5, 1.0, start=2.0)
-    assert sim.truth.theta == pytest.approx(0.5, abs=1e-9)
-    assert sim.odom.theta == pytest.approx(1.2 * 0.5, abs=1e-9)
+    assert sim.truth.yaw == pytest.approx(0.5, abs=1e-9)
+    assert sim.odom.yaw == pytest.approx(1.2 * 0.5, abs=1e-9)
     assert sim.odom_velocity == pytest.approx((0.0, 1.2 * 0.5))
 
 
@@ -231,8 +231,8 @@ def test_scale_corrections_cancel_the_errors():
                 odom_linear_scale_correction=1 / 1.1,
                 odom_angular_scale_correction=1 / 1.2)
     drive(sim, 0.2, 0.4, 3.0)
-    assert (sim.odom.x, sim.odom.y, sim.odom.theta) == pytest.approx(
-        (sim.truth.x, sim.truth.y, sim.truth.theta), abs=1e-9)
+    assert (sim.odom.x, sim.odom.y, sim.odom.yaw) == pytest.approx(
+        (sim.truth.x, sim.truth.y, sim.truth.yaw), abs=1e-9)
 
 
 def test_gyro_follows_true_yaw_rate_despite_odometry_errors():
@@ -240,7 +240,7 @@ def test_gyro_follows_true_yaw_rate_despite_odometry_errors():
     drive(sim, 0.0, 0.5, 1.0)
     assert sim.gyro_rate == pytest.approx(0.5 + 0.01, abs=1e-12)
     assert sim.gyro_yaw == pytest.approx(0.5 + 0.01, abs=1e-9)
-    assert sim.odom.theta == pytest.approx(0.525, abs=1e-9)
+    assert sim.odom.yaw == pytest.approx(0.525, abs=1e-9)
 
 
 def test_gyro_variances_are_never_zero():
@@ -359,7 +359,7 @@ def test_config_at_its_limits_keeps_the_model_finite(field, at_max, commands):
         sim.command(v, w, t)
         t += dt
         sim.step(t)
-    for value in (sim.truth.x, sim.truth.y, sim.odom.x, sim.odom.y, sim.odom.theta,
+    for value in (sim.truth.x, sim.truth.y, sim.odom.x, sim.odom.y, sim.odom.yaw,
                   sim.gyro_yaw, sim.gyro_rate, *sim.wheel_angles, *sim.wheel_velocities,
                   *sim.odom_velocity):
         assert math.isfinite(value)
