@@ -15,6 +15,7 @@ Parameters:  ~rate, ~odom_frame, ~base_frame, ~publish_tf, ~ground_truth_frame,
              CONFIG_LIMITS). ~rate is 50 Hz by default, 0.01 to 1000.
              A bad value is logged and the node exits with status 1.
 """
+import math
 import threading
 
 import rospy
@@ -100,10 +101,13 @@ class FakeTurtleBot:
                           'between most commands', self.sim.config.cmd_timeout,
                           1.0 / self.rate)
 
-        self.odom_pub = rospy.Publisher('odom', Odometry, queue_size=10)
-        self.truth_pub = rospy.Publisher('ground_truth', Odometry, queue_size=10)
-        self.joint_pub = rospy.Publisher('joint_states', JointState, queue_size=10)
-        self.imu_pub = (rospy.Publisher('imu_data', Imu, queue_size=10)
+        # Room for a whole catch-up burst (MAX_CATCH_UP of steps published
+        # at once), so a late wake-up does not drop odometry messages.
+        queue = int(math.ceil(self.rate * MAX_CATCH_UP)) + 10
+        self.odom_pub = rospy.Publisher('odom', Odometry, queue_size=queue)
+        self.truth_pub = rospy.Publisher('ground_truth', Odometry, queue_size=queue)
+        self.joint_pub = rospy.Publisher('joint_states', JointState, queue_size=queue)
+        self.imu_pub = (rospy.Publisher('imu_data', Imu, queue_size=queue)
                         if self.publish_imu else None)
         self.tf_pub = tf2_ros.TransformBroadcaster() if self.publish_tf else None
         rospy.Subscriber('cmd_vel', Twist, self.on_cmd_vel, queue_size=1)
