@@ -35,8 +35,12 @@ class Realistic(unittest.TestCase):
         cls.noisy = rospy.get_param('~noisy_tolerance', 0.02)
         cls.gyro_tol = rospy.get_param('~gyro_tolerance', 0.01)
         cls.rec = {ns: Recorder(ns) for ns in cls.robots}
-        for rec in cls.rec.values():
-            assert wait_for(lambda: len(rec.snapshot('odom')) > 5, 30.0), 'no odom'
+        # deltas() pairs odom, truth and imu by stamp from before each
+        # command, so all three streams must be flowing first.
+        for ns, rec in cls.rec.items():
+            assert wait_for(lambda: all(len(rec.snapshot(kind)) > 5
+                                        for kind in ('odom', 'truth', 'imu')),
+                            30.0), '%s: odom, ground_truth or imu_data missing' % ns
         cls.phases = {}
         for phase, (v, w) in (('straight', (0.2, 0.0)), ('turn', (0.0, 1.0))):
             sent = {ns: rec.send(v, w) for ns, rec in cls.rec.items()}
