@@ -50,9 +50,13 @@ unit:
 
 # The course on the fake robot at real time, recorded and plotted to course.png.
 # Launch args pass through: make demo ARGS="precise:=true rviz:=true"
+# roslaunch exits 0 even when the course fails, so the course's own summary
+# line (printed only on success) decides.
 demo: build
-	$(ROS) roslaunch rbx1_nav odom_out_and_back_sim.launch record:=true \
-	  bag:=$(CURDIR)/course.bag $(ARGS)
+	$(ROS) set -o pipefail; roslaunch rbx1_nav odom_out_and_back_sim.launch \
+	  record:=true bag:=$(CURDIR)/course.bag $(ARGS) 2>&1 | tee $(WS)/demo.log
+	@grep -q 'Course complete' $(WS)/demo.log \
+	  || { echo "demo: the course did not complete; its error is above"; exit 1; }
 	$(ROS) rosrun rbx1_nav plot_course.py $(CURDIR)/course.bag -o $(CURDIR)/course.png
 
 # Speed of the simulator (a table; not a test).
