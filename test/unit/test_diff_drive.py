@@ -145,6 +145,17 @@ def test_absurd_speeds_are_clamped():
     assert sim.velocity == (0.5, -2.0)
 
 
+def replay(sim, commands):
+    """Send each (v, w, dt) at the current time and step dt on; yield per step."""
+    t = 0.0
+    sim.step(t)
+    for v, w, dt in commands:
+        sim.command(v, w, t)
+        t += dt
+        sim.step(t)
+        yield t
+
+
 @settings(max_examples=200, deadline=None)
 @given(st.lists(st.tuples(st.floats(), st.floats(), st.floats(1e-4, 10.0)),
                 min_size=1, max_size=30))
@@ -152,12 +163,7 @@ def test_any_input_leaves_the_pose_finite(commands):
     cfg = DiffDriveConfig(accel_limit_linear=1.0, encoder_noise=0.01,
                           gyro_noise_density=0.01, seed=0)
     sim = DiffDriveSim(cfg)
-    t = 0.0
-    sim.step(t)
-    for v, w, dt in commands:
-        sim.command(v, w, t)
-        t += dt
-        sim.step(t)
+    for _ in replay(sim, commands):
         for value in (sim.truth.x, sim.truth.y, sim.truth.yaw, sim.odom.x,
                       sim.odom.y, sim.odom.yaw, sim.gyro_yaw, *sim.wheel_angles):
             assert math.isfinite(value)
@@ -353,12 +359,8 @@ def test_config_at_its_limits_keeps_the_model_finite(field, at_max, commands):
                   wheel_separation=10.0)
     values[field] = extreme
     sim = DiffDriveSim(DiffDriveConfig(**values))
-    t = 0.0
-    sim.step(t)
-    for v, w, dt in commands:
-        sim.command(v, w, t)
-        t += dt
-        sim.step(t)
+    for _ in replay(sim, commands):
+        pass
     for value in (sim.truth.x, sim.truth.y, sim.odom.x, sim.odom.y, sim.odom.yaw,
                   sim.gyro_yaw, sim.gyro_rate, *sim.wheel_angles, *sim.wheel_velocities,
                   *sim.odom_velocity):
