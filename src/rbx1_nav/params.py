@@ -13,10 +13,12 @@ strings 'true' / 'false'; bools are never numbers and numbers never flags.
 """
 import math
 import numbers
+from collections import namedtuple
 
 from rbx1_nav.transform_utils import strip_leading_slash
 
-__all__ = ['number', 'integer', 'flag', 'frame', 'text', 'number_list']
+__all__ = ['number', 'integer', 'flag', 'frame', 'text', 'number_list',
+           'Param', 'param', 'read_all', 'describe']
 
 
 def _as_float(name, value):
@@ -130,3 +132,48 @@ def number_list(name, value, length, minimum=None, maximum=None,
                          % (name, length, value))
     return [number('%s[%d]' % (name, i), item, minimum, maximum, allow_zero)
             for i, item in enumerate(value)]
+
+
+Param = namedtuple('Param', 'name default check options unit doc')
+Param.__doc__ = """One private parameter of a node, declared once.
+
+``check`` is one of this module's functions and ``options`` its keyword
+arguments (bounds); ``unit`` and ``doc`` are for the start-up log line and
+the documentation.
+"""
+
+
+def param(name, default, check, unit='', doc='', **options):
+    """A :class:`Param`; keyword arguments beyond ``doc`` go to ``check``."""
+    return Param(name, default, check, options, unit, doc)
+
+
+def read_all(specs, lookup, prefix=''):
+    """Check every parameter of ``specs``; return (values by name, problems).
+
+    ``lookup(name, default)`` gives a parameter's raw value (for a node,
+    ``rospy.get_param('~' + name, default)``); ``prefix`` goes before each
+    name in the messages. A problem leaves the default in ``values``.
+    """
+    values, problems = {}, []
+    for spec in specs:
+        try:
+            values[spec.name] = spec.check(prefix + spec.name,
+                                           lookup(spec.name, spec.default),
+                                           **spec.options)
+        except ValueError as err:
+            problems.append(str(err))
+            values[spec.name] = spec.default
+    return values, problems
+
+
+def describe(specs, values):
+    """'name value unit, ...' for a start-up log line."""
+    def shown(value):
+        if isinstance(value, bool):
+            return 'on' if value else 'off'
+        if isinstance(value, float):
+            return '%g' % value
+        return repr(value) if value == '' else str(value)
+    return ', '.join(('%s %s %s' % (s.name, shown(values[s.name]), s.unit)).strip()
+                     for s in specs)

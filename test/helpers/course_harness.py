@@ -1,7 +1,8 @@
 """Shared plumbing for the out-and-back rostests (imported, not a node).
 
-``CourseProcess`` starts ``odom_out_and_back.py`` the way a user does, with
-``rosrun``, so a test sees its exit status and its log lines.
+``CourseProcess`` starts a motion node (``odom_out_and_back.py`` by default)
+the way a user does, with ``rosrun``, so a test sees its exit status and its
+log lines.
 ``RobotWatch`` follows one robot's ``ground_truth`` (the simulator's true
 pose) and ``cmd_vel`` (what the course commanded), optionally in a namespace.
 Times are ROS times, so under /use_sim_time they are simulated seconds.
@@ -117,10 +118,13 @@ class RosoutWatch(object):
 
 
 class CourseProcess(object):
-    """odom_out_and_back.py run through rosrun, its output collected."""
+    """A motion node (odom_out_and_back.py unless ``script`` says otherwise)
+    run through rosrun, its output collected."""
 
-    def __init__(self, ns='', params=None, name='odom_out_and_back'):
-        args = ['rosrun', 'rbx1_nav', 'odom_out_and_back.py', '__name:=' + name]
+    def __init__(self, ns='', params=None, name=None,
+                 script='odom_out_and_back.py'):
+        name = name or script[:-len('.py')]
+        args = ['rosrun', 'rbx1_nav', script, '__name:=' + name]
         self.node_name = '/' + _join(ns.strip('/'), name)
         if ns:
             args.append('__ns:=' + ns)

@@ -1,0 +1,41 @@
+#!/usr/bin/env python3
+"""timed_out_and_back.py - the book's out-and-back course, open loop on time.
+
+Drives ~goal_distance at ~linear_speed for goal_distance / linear_speed
+seconds, turns ~goal_angle at ~angular_speed for goal_angle / angular_speed
+seconds, twice, with a pause after each move. Unlike the book, which counts
+ticks as if every turn ran at 1 rad/s, each duration comes from the speeds
+and is timed on ROS time, so the course also works at other speeds and
+under simulated time. No odometry is needed to drive; if the odom -> base
+transform exists it is watched (staleness stops the robot) and the summary
+line gives the final pose.
+
+Publishes:  cmd_vel (geometry_msgs/Twist), relative.
+Parameters (private, book's values by default):
+  ~linear_speed 0.2 m/s   ~goal_distance 1.0 m   ~angular_speed 1.0 rad/s
+  ~goal_angle pi rad      ~legs 2   ~pause 1.0 s   ~rate 50 Hz
+  and the runner's: ~odom_frame, ~base_frame, ~tf_wait, ~tf_timeout,
+  ~start_delay (see rbx1_nav.ros.runner).
+Exit status: 0 after a completed course, 1 otherwise; the robot is always
+sent a stop.
+"""
+import math
+
+from rbx1_nav.motion import Course, legs_course, legs_params
+from rbx1_nav.ros.runner import exit_node, run_course_node
+
+NAME = 'timed_out_and_back'
+PARAMS = legs_params(linear_speed=0.2, goal_distance=1.0, angular_speed=1.0,
+                     goal_angle=math.pi, legs=2, pause=1.0)
+
+
+def build_course(values):
+    return Course(legs_course(values['goal_distance'], values['goal_angle'],
+                              values['legs'], values['linear_speed'],
+                              values['angular_speed'], pause=values['pause'],
+                              period=1.0 / values['rate']))
+
+
+if __name__ == '__main__':
+    exit_node(NAME, run_course_node(NAME, PARAMS, build_course, rate=50.0,
+                                    require_tf=False))

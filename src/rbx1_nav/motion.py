@@ -1,0 +1,427 @@
+"""Motion primitives and the course that runs them: the logic of every motion node.
+
+No rospy here. A course is a list of steps, run one after the other:
+
+* :class:`Drive` a distance and :class:`Turn` an angle, closed loop on
+  odometry (the pose fed in each cycle);
+* :class:`TimedDrive` and :class:`TimedTurn`, open loop on time: the
+  speed for ``distance / speed`` seconds, as the book's timed course does;
+* :class:`Pause`, the robot stopped for a time.
+
+The ROS side (``rbx1_nav.ros.runner``) calls :meth:`Course.update` once per
+control cycle with the latest pose and ROS time and publishes the
+:class:`Command` it returns; tests drive the same class with a simulated
+robot and a fake clock. The book's courses are lists of these steps:
+out-and-back is [drive 1 m, turn pi] x 2, the square [drive 1 m, turn
+pi/2] x 4, a linear calibration [drive d], an angular one [turn 2 pi].
+
+Rules shared by every course, as in the book:
+
+* a drive measures the straight-line distance from where it began;
+* a turn adds up ``normalize_angle`` of each change in yaw, so it works
+  across the +-pi wrap and for turns of pi or more, and counts from where
+  the previous drive or turn ended (rotation while stopping counts);
+* a closed-loop step ends once it has reached its goal less its
+  ``tolerance`` (measured in the step's own direction, so a clockwise turn
+  stops equally early); the cycle that ends it commands a stop;
+* precise mode (an :class:`Approach`) slows down near each goal (speed
+  proportional to what remains, never below a creep speed), holds the
+  drive's starting heading, and ignores the tolerance.
+"""
+import math
+from collections import namedtuple
+
+from rbx1_nav import params
+from rbx1_nav.params import param
+from rbx1_nav.transform_utils import Pose2D, normalize_angle
+
+__all__ = ['Command', 'STOP', 'Approach', 'Drive', 'Turn', 'TimedDrive',
+           'TimedTurn', 'Pause', 'Course', 'legs_course', 'pose_error',
+           'MAX_LINEAR_SPEED', 'MAX_ANGULAR_SPEED', 'PRECISE_PARAMS',
+           'approach', 'legs_params']
+
+Command = namedtuple('Command', 'linear angular')
+Command.__doc__ = 'A velocity command: forward speed (m/s), turn rate (rad/s).'
+
+STOP = Command(0.0, 0.0)
+
+DRIVE, TURN, PAUSE, DONE = 'drive', 'turn', 'pause', 'done'
+
+# Upper bounds that no TurtleBot-class course needs; past them a value is a
+# typo (or a unit mix-up) and the robot must not move.
+MAX_LINEAR_SPEED = 2.0           # m/s
+MAX_ANGULAR_SPEED = 2 * math.pi  # rad/s
+
+
+Approach = namedtuple('Approach', 'gain heading_gain min_linear_speed '
+                                  'min_angular_speed')
+Approach.__doc__ = """Precise mode's settings.
+
+gain (1/s): speed = gain * what remains, clamped between the creep speed
+(min_linear_speed m/s, min_angular_speed rad/s) and the step's speed;
+heading_gain (1/s) turns a drive's heading error into a turn rate.
+"""
+
+
+_POSITIVE = dict(minimum=0.0, allow_zero=False)
+
+# Precise mode's settings, shared by every closed-loop course node.
+PRECISE_PARAMS = (
+    param('precise', False, params.flag,
+          doc='slow down near each goal, hold heading, ignore the tolerance'),
+    param('precise_gain', 1.0, params.number, '/s',
+          'approach speed = gain x what remains', **_POSITIVE),
+    param('precise_heading_gain', 4.0, params.number, '/s',
+          'turn rate per radian of heading error while driving', **_POSITIVE),
+    param('precise_min_linear_speed', 0.005, params.number, 'm/s',
+          'creep speed near a distance goal', maximum=MAX_LINEAR_SPEED,
+          **_POSITIVE),
+    param('precise_min_angular_speed', 0.01, params.number, 'rad/s',
+          'creep speed near an angle goal', maximum=MAX_ANGULAR_SPEED,
+          **_POSITIVE),
+)
+
+
+def approach(values):
+    """The :class:`Approach` of checked PRECISE_PARAMS values, or None."""
+    if not values['precise']:
+        return None
+    return Approach(values['precise_gain'], values['precise_heading_gain'],
+                    values['precise_min_linear_speed'],
+                    values['precise_min_angular_speed'])
+
+
+def legs_params(linear_speed, goal_distance, angular_speed, goal_angle,
+                angle_unit='rad', angular_tolerance=None, tolerance_unit='deg',
+                legs=None, pause=1.0):
+    """The parameters of a :func:`legs_course`, with these defaults.
+
+    ``goal_angle`` is in ``angle_unit``, ``angular_tolerance`` in
+    ``tolerance_unit`` ('rad' or 'deg'; the book's nodes use degrees for
+    the tolerance); a tolerance or leg count of None is not a parameter.
+    """
+    specs = [
+        param('linear_speed', linear_speed, params.number, 'm/s',
+              'forward speed', maximum=MAX_LINEAR_SPEED, **_POSITIVE),
+        param('goal_distance', goal_distance, params.number, 'm',
+              'length of each leg (negative: backwards)'),
+        param('angular_speed', angular_speed, params.number, 'rad/s',
+              'turn rate', maximum=MAX_ANGULAR_SPEED, **_POSITIVE),
+        param('goal_angle', goal_angle, params.number, angle_unit,
+              'turn after each leg (negative: clockwise)'),
+    ]
+    if angular_tolerance is not None:
+        specs.append(param('angular_tolerance', angular_tolerance,
+                           params.number, tolerance_unit,
+                           'a turn stops this much short', minimum=0.0))
+    if legs is not None:
+        specs.append(param('legs', legs, params.integer, '', 'number of legs',
+                           minimum=1, maximum=1000))
+    specs.append(param('pause', pause, params.number, 's',
+                       'stop after each drive and turn', minimum=0.0))
+    return tuple(specs)
+
+
+def pose_error(actual, expected):
+    """(position error in m, heading error in rad) of one pose against another."""
+    return (math.hypot(actual.x - expected.x, actual.y - expected.y),
+            normalize_angle(actual.yaw - expected.yaw))
+
+
+def _clamp(value, low, high):
+    return max(low, min(high, value))
+
+
+class Step(object):
+    """One primitive of a course; subclasses fill in the behaviour.
+
+    :meth:`begin` is called when the step becomes current (the cycle the
+    previous one ended), :meth:`update` every cycle from the next one on.
+    ``update`` returns the Command to send, or None when the step is over.
+    """
+
+    kind = None
+
+    def __init__(self, label=''):
+        self.label = label
+        self.began = None
+
+    def begin(self, course, pose, now):
+        self.began = now
+
+    def update(self, course, pose, now):
+        raise NotImplementedError
+
+    def ideal_end(self, pose):
+        """Where a perfect robot stands after this step, begun at ``pose``."""
+        return pose
+
+    def _event(self, course, text, now):
+        course.log('%s%s in %.1f s' % (self.label + ': ' if self.label else '',
+                                       text, now - self.began))
+
+
+class Pause(Step):
+    """Stand still for ``duration`` seconds."""
+
+    kind = PAUSE
+
+    def __init__(self, duration, label=''):
+        Step.__init__(self, label)
+        self.duration = float(duration)
+
+    def update(self, course, pose, now):
+        return STOP if now < self.began + self.duration else None
+
+
+class _Drive(Step):
+    kind = DRIVE
+
+    def __init__(self, distance, speed, label=''):
+        Step.__init__(self, label)
+        self.distance, self.speed = float(distance), abs(float(speed))
+
+    def ideal_end(self, pose):
+        return Pose2D(pose.x + self.distance * math.cos(pose.yaw),
+                      pose.y + self.distance * math.sin(pose.yaw), pose.yaw)
+
+
+class _Turn(Step):
+    kind = TURN
+
+    def __init__(self, angle, speed, label=''):
+        Step.__init__(self, label)
+        self.angle, self.speed = float(angle), abs(float(speed))
+
+    def ideal_end(self, pose):
+        return Pose2D(pose.x, pose.y, normalize_angle(pose.yaw + self.angle))
+
+
+class Drive(_Drive):
+    """Drive ``distance`` metres (negative: backwards) on odometry."""
+
+    def __init__(self, distance, speed, tolerance=0.0, approach=None,
+                 heading_rate=MAX_ANGULAR_SPEED, label=''):
+        _Drive.__init__(self, distance, speed, label)
+        self.tolerance = float(tolerance)
+        self.approach = approach
+        self.heading_rate = float(heading_rate)  # precise mode's turn rate cap
+        self.start = None
+
+    def begin(self, course, pose, now):
+        Step.begin(self, course, pose, now)
+        self.start = pose
+
+    def update(self, course, pose, now):
+        course.distance = math.hypot(pose.x - self.start.x,
+                                     pose.y - self.start.y)
+        remaining = abs(self.distance) - course.distance
+        slack = 0.0 if self.approach else self.tolerance
+        if remaining - slack <= 0.0:
+            self._event(course, 'drove %.3f m' % course.distance, now)
+            return None
+        speed, angular = self.speed, 0.0
+        if self.approach:
+            ap = self.approach
+            speed = _clamp(ap.gain * remaining, ap.min_linear_speed, self.speed)
+            heading_error = normalize_angle(pose.yaw - self.start.yaw)
+            angular = _clamp(-ap.heading_gain * heading_error,
+                             -self.heading_rate, self.heading_rate)
+        return Command(math.copysign(speed, self.distance), angular)
+
+
+class Turn(_Turn):
+    """Turn ``angle`` radians (negative: clockwise) on odometry."""
+
+    def __init__(self, angle, speed, tolerance=0.0, approach=None, label=''):
+        _Turn.__init__(self, angle, speed, label)
+        self.tolerance = float(tolerance)
+        self.approach = approach
+        self.anchor = None
+
+    def begin(self, course, pose, now):
+        Step.begin(self, course, pose, now)
+        self.anchor = course.motion_end_yaw
+
+    def update(self, course, pose, now):
+        course.turned = course.yaw_total - self.anchor
+        direction = math.copysign(1.0, self.angle)
+        remaining = abs(self.angle) - course.turned * direction
+        slack = 0.0 if self.approach else self.tolerance
+        if remaining - slack <= 0.0:
+            self._event(course, 'turned %.1f deg' % math.degrees(course.turned),
+                        now)
+            return None
+        speed = self.speed
+        if self.approach:
+            ap = self.approach
+            speed = _clamp(ap.gain * remaining, ap.min_angular_speed, self.speed)
+        return Command(0.0, direction * speed)
+
+
+class _Timed(Step):
+    """Open loop: the step's speed for |goal| / speed seconds of ROS time.
+
+    The clock starts at the step's first command. The last cycle commands
+    the fraction of the speed that the remaining time (less than one
+    ``period``) calls for, so the commanded distance or angle is exact
+    whatever the phase of the control ticks.
+    """
+
+    def __init__(self, period):
+        self.period = float(period)
+        self.first = None
+
+    def _command(self, goal, speed, now):
+        if self.first is None:
+            self.first = now
+        remaining = abs(goal) / speed - (now - self.first)
+        if remaining <= 1e-9:
+            return None
+        fraction = min(1.0, remaining / self.period)
+        return math.copysign(speed * fraction, goal)
+
+
+class TimedDrive(_Drive, _Timed):
+    """Drive ``distance`` at ``speed`` for distance / speed seconds."""
+
+    def __init__(self, distance, speed, period, label=''):
+        _Drive.__init__(self, distance, speed, label)
+        _Timed.__init__(self, period)
+
+    def update(self, course, pose, now):
+        speed = self._command(self.distance, self.speed, now)
+        if speed is None:
+            self._event(course, 'drove for %.2f s' % (now - self.first), now)
+            return None
+        return Command(speed, 0.0)
+
+
+class TimedTurn(_Turn, _Timed):
+    """Turn ``angle`` at ``speed`` for angle / speed seconds."""
+
+    def __init__(self, angle, speed, period, label=''):
+        _Turn.__init__(self, angle, speed, label)
+        _Timed.__init__(self, period)
+
+    def update(self, course, pose, now):
+        speed = self._command(self.angle, self.speed, now)
+        if speed is None:
+            self._event(course, 'turned for %.2f s' % (now - self.first), now)
+            return None
+        return Command(0.0, speed)
+
+
+class Course(object):
+    """Run a list of steps one control cycle at a time.
+
+    Call :meth:`update` with the latest pose and the time (seconds, any
+    origin); it returns the :class:`Command` to send until the next call.
+    :attr:`done` turns true after the last step; from then on every command
+    is :data:`STOP`. :meth:`pop_events` hands over progress lines for the
+    log. ``yaw_total`` is the yaw turned since the start (unwrapped),
+    ``turned`` and ``distance`` the progress of the latest turn and drive.
+    """
+
+    def __init__(self, steps):
+        self.steps = list(steps)
+        if not self.steps:
+            raise ValueError('a course needs at least one step')
+        self.index = 0
+        self.start_pose = None
+        self.start_time = None
+        self.end_time = None
+        self._now = None
+        self._events = []
+        self._last_yaw = None
+        self.yaw_total = 0.0
+        self.motion_end_yaw = 0.0
+        self.turned = 0.0
+        self.distance = 0.0
+
+    @property
+    def done(self):
+        """True once the whole course, final pause included, is over."""
+        return self.index >= len(self.steps)
+
+    @property
+    def phase(self):
+        """'drive', 'turn', 'pause' (the current step's kind) or 'done'."""
+        return DONE if self.done else self.steps[self.index].kind
+
+    @property
+    def elapsed(self):
+        """Seconds from the first update to the end (or to the last update)."""
+        if self.start_time is None:
+            return 0.0
+        return (self.end_time if self.end_time is not None
+                else self._now) - self.start_time
+
+    def log(self, text):
+        """Queue a progress line (steps report through this)."""
+        self._events.append(text)
+
+    def pop_events(self):
+        """Progress messages produced since the last call, oldest first."""
+        events, self._events = self._events, []
+        return events
+
+    def ideal_end(self, start):
+        """Where a perfect robot ends the course begun at ``start``."""
+        pose = start
+        for step in self.steps:
+            pose = step.ideal_end(pose)
+        return pose
+
+    def update(self, pose, now):
+        """Advance the course with a new pose (Pose2D) at time ``now`` (s)."""
+        pose = Pose2D(*(float(v) for v in pose))
+        if not all(math.isfinite(v) for v in pose):
+            raise ValueError('pose has a non-finite value: %r' % (pose,))
+        now = float(now)
+        if self.start_time is None:
+            self.start_time = now
+            self.start_pose = pose
+            self._last_yaw = pose.yaw
+            self.steps[0].begin(self, pose, now)
+        self._now = now
+        self.yaw_total += normalize_angle(pose.yaw - self._last_yaw)
+        self._last_yaw = pose.yaw
+        while not self.done:
+            step = self.steps[self.index]
+            command = step.update(self, pose, now)
+            if command is not None:
+                return command
+            if step.kind != PAUSE:
+                self.motion_end_yaw = self.yaw_total
+            self.index += 1
+            if self.done:
+                self.end_time = now
+                self.log('course done in %.1f s' % (now - self.start_time))
+                break
+            self.steps[self.index].begin(self, pose, now)
+            if step.kind != PAUSE:
+                break  # a drive or turn ends on a cycle of stop
+        return STOP
+
+
+def legs_course(distance, angle, legs, linear_speed, angular_speed,
+                tolerance=0.0, pause=0.0, approach=None, period=None):
+    """[drive ``distance``, pause, turn ``angle``, pause] x ``legs``.
+
+    Closed loop on odometry; with a control ``period`` (s), open loop on
+    time instead. ``tolerance`` (rad) applies to closed-loop turns, as in
+    the book; ``approach`` (an :class:`Approach`) selects precise mode.
+    """
+    steps = []
+    for leg in range(1, int(legs) + 1):
+        label = 'leg %d/%d' % (leg, legs)
+        if period is None:
+            drive = Drive(distance, linear_speed, approach=approach,
+                          heading_rate=angular_speed, label=label)
+            turn = Turn(angle, angular_speed, tolerance, approach, label=label)
+        else:
+            drive = TimedDrive(distance, linear_speed, period, label=label)
+            turn = TimedTurn(angle, angular_speed, period, label=label)
+        steps += [drive, Pause(pause), turn, Pause(pause)]
+    return steps

@@ -1,0 +1,347 @@
+"""The ROS side of every motion node: a course in, the robot driven and stopped.
+
+A motion node declares its private parameters (rbx1_nav.params.Param) and
+how to build its course (a rbx1_nav.motion.Course) from their values;
+:func:`run_course_node` does the rest: reads and checks the parameters
+(with the common ones below), logs the values it uses, follows the
+``odom_frame -> base_frame`` transform with tf2, feeds each pose to the
+course, publishes its commands on ``cmd_vel``, and logs a summary line.
+
+Safety, for every node that uses it: a zero Twist goes out on every exit
+path (success, Ctrl-C, ``rosnode kill``, any exception); the course aborts,
+robot stopped, when the transform stops updating for ``~tf_timeout`` or
+when ``/clock`` stops under simulated time. Exit status 0 only after a
+completed course.
+"""
+import math
+import threading
+import time
+
+import rospy
+import tf2_ros
+from geometry_msgs.msg import Twist
+from rosgraph_msgs.msg import Clock
+
+from rbx1_nav import params
+from rbx1_nav.motion import pose_error
+from rbx1_nav.params import param
+from rbx1_nav.transform_utils import Pose2D, normalize_angle, quat_to_angle
+
+BASE_FRAME_CANDIDATES = ('base_footprint', 'base_link')
+
+_POSITIVE = dict(minimum=0.0, allow_zero=False)
+
+
+def common_params(rate):
+    """The runner's own parameters; ``rate`` (Hz) is the node's default."""
+    return (
+        param('rate', float(rate), params.number, 'Hz', 'control rate',
+              minimum=1.0, maximum=1000.0),
+        param('odom_frame', 'odom', params.frame, '', 'odometry frame'),
+        param('base_frame', '', params.frame, '',
+              "robot frame; '' tries base_footprint, then base_link",
+              allow_empty=True),
+        param('tf_wait', 5.0, params.number, 's',
+              'wait this long for the first transform', **_POSITIVE),
+        param('tf_timeout', 1.0, params.number, 's',
+              'abort when the transform is older than this', **_POSITIVE),
+        param('start_delay', 0.0, params.number, 's',
+              'pause before moving (e.g. for a bag recorder)', minimum=0.0),
+    )
+
+
+class CourseAborted(Exception):
+    """The course cannot go on; the message says why, for the log."""
+
+
+def read_params(specs):
+    """Values of the node's private parameters ``specs``.
+
+    Raises ValueError naming every unusable value.
+    """
+    values, problems = params.read_all(
+        specs, lambda name, default: rospy.get_param('~' + name, default), '~')
+    if problems:
+        raise ValueError('; '.join(problems))
+    return values
+
+
+class MotionRunner(object):
+    """tf2 in, cmd_vel out, the watchdogs, and a stop on every exit.
+
+    ``settings`` holds the values of :func:`common_params`. With
+    ``require_tf`` false (open-loop courses) a robot without the transform
+    still runs the course, blind: no staleness check and no final pose.
+    """
+
+    def __init__(self, name, settings, require_tf=True):
+        self.name = name
+        self.settings = settings
+        self.require_tf = require_tf
+        self.odom_frame = settings['odom_frame']
+        self.base_frame = settings['base_frame']  # '' = automatic
+        self.followed = None  # the base frame found on tf
+        self.cmd_vel = rospy.Publisher('cmd_vel', Twist, queue_size=5)
+        # on_shutdown hooks run before rospy closes its topics (Ctrl-C,
+        # rosnode kill, roslaunch ending), so this stop still goes out.
+        rospy.on_shutdown(self.stop)
+        self.tf_buffer = tf2_ros.Buffer()
+        self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
+        self._clock_ready = False
+
+    def stop(self):
+        """Command zero velocity."""
+        self.cmd_vel.publish(Twist())
+
+    def publish(self, command):
+        twist = Twist()
+        twist.linear.x, twist.angular.z = command.linear, command.angular
+        self.cmd_vel.publish(twist)
+
+    def wait_for_clock(self):
+        """Under /use_sim_time, wait (wall time) for the first /clock."""
+        if not rospy.get_param('/use_sim_time', False):
+            return
+        if not rospy.Time.now().is_zero():
+            return
+        rospy.loginfo('/use_sim_time is set: waiting for /clock')
+        try:
+            rospy.wait_for_message('/clock', Clock,
+                                   timeout=self.settings['tf_wait'])
+        except rospy.ROSInterruptException:
+            raise
+        except rospy.ROSException:
+            raise CourseAborted(
+                '/use_sim_time is true but nothing publishes /clock after '
+                '%.1f s (start the simulator with sim_speed set, or '
+                'sim_clock.launch, or set /use_sim_time false)'
+                % self.settings['tf_wait'])
+
+    def watch_clock(self):
+        """Under /use_sim_time, shut the node down if /clock stops.
+
+        rospy.Rate.sleep() waits for simulated time, so with a dead clock the
+        control loop, and with it the stale-tf check, would block forever.
+        This thread measures wall time (the one place the node does) and shuts
+        the node down, robot stopped, when ROS time stands still for
+        max(2 s, ~tf_timeout) of wall time.
+        """
+        if not rospy.get_param('/use_sim_time', False):
+            return
+        limit = max(2.0, self.settings['tf_timeout'])
+
+        def watch():
+            last, since = rospy.get_rostime(), time.monotonic()
+            while not rospy.is_shutdown():
+                rospy.rostime.wallsleep(0.1)
+                now = rospy.get_rostime()
+                if now != last:
+                    last, since = now, time.monotonic()
+                elif time.monotonic() - since > limit:
+                    self.stop()
+                    rospy.logerr('%s: /clock has not advanced for %.1f s of '
+                                 'wall time (simulator or clock node gone?); '
+                                 'stopped the robot', self.name, limit)
+                    rospy.signal_shutdown('simulated clock stopped')
+                    return
+
+        threading.Thread(target=watch, name='clock_watchdog', daemon=True).start()
+
+    def start(self):
+        """Wait for the clock and start its watchdog (once per node)."""
+        if not self._clock_ready:
+            self.wait_for_clock()
+            self.watch_clock()
+            self._clock_ready = True
+
+    def find_base_frame(self):
+        """Wait up to ~tf_wait for odom -> base; return the base frame or None."""
+        candidates = ((self.base_frame,) if self.base_frame
+                      else BASE_FRAME_CANDIDATES)
+        rospy.loginfo('Waiting up to %.1f s for tf %s -> %s',
+                      self.settings['tf_wait'], self.odom_frame,
+                      ' or '.join(candidates))
+        deadline = rospy.Time.now() + rospy.Duration(self.settings['tf_wait'])
+        poll = rospy.Rate(20)
+        while not rospy.is_shutdown():
+            for frame in candidates:
+                if self.tf_buffer.can_transform(self.odom_frame, frame,
+                                                rospy.Time(0)):
+                    rospy.loginfo('Following tf %s -> %s', self.odom_frame, frame)
+                    return frame
+            if rospy.Time.now() >= deadline:
+                break
+            poll.sleep()
+        if rospy.is_shutdown():
+            raise rospy.ROSInterruptException('shutdown while waiting for tf')
+        problem = (
+            'no transform from %s to %s after %.1f s: nothing is publishing '
+            'the robot\'s odometry on tf' % (self.odom_frame,
+                                             ' or '.join(candidates),
+                                             self.settings['tf_wait']))
+        if not self.require_tf:
+            rospy.logwarn('%s: %s; running the course open loop without a '
+                          'position report', self.name, problem)
+            return None
+        raise CourseAborted(
+            '%s. Start the robot first: roslaunch rbx1_nav fake_turtlebot.launch '
+            'for the simulator, or the robot\'s driver (e.g. its bringup '
+            'launch) on a real robot; or set ~odom_frame / ~base_frame to the '
+            'frames your robot uses.' % problem)
+
+    def wait_for_listener(self):
+        """Wait up to ~tf_wait for the driver to subscribe to cmd_vel.
+
+        Commands published before the connection is made are lost, which
+        would shorten the first move of an open-loop course.
+        """
+        deadline = rospy.Time.now() + rospy.Duration(self.settings['tf_wait'])
+        poll = rospy.Rate(50)
+        while self.cmd_vel.get_num_connections() == 0:
+            if rospy.is_shutdown():
+                raise rospy.ROSInterruptException('shutdown while waiting')
+            if rospy.Time.now() >= deadline:
+                raise CourseAborted(
+                    'nothing subscribes to %s after %.1f s: is the robot '
+                    'driver listening on another topic? Remap it, e.g. '
+                    'cmd_vel:=mobile_base/commands/velocity for a TurtleBot 2'
+                    % (self.cmd_vel.resolved_name, self.settings['tf_wait']))
+            poll.sleep()
+
+    def lookup(self):
+        """(Pose2D, stamp) of the latest odom -> base transform, or None."""
+        try:
+            tf = self.tf_buffer.lookup_transform(self.odom_frame,
+                                                 self.followed, rospy.Time(0))
+        except tf2_ros.TransformException:
+            return None
+        t, q = tf.transform.translation, tf.transform.rotation
+        return Pose2D(t.x, t.y, quat_to_angle(q)), tf.header.stamp
+
+    def run(self, course):
+        """Drive ``course``; return the final pose (None when blind).
+
+        Raises CourseAborted or rospy.ROSInterruptException if the course
+        did not complete; the robot is stopped either way.
+        """
+        self.start()
+        if self.followed is None:
+            self.followed = self.find_base_frame()
+        self.wait_for_listener()
+        if self.settings['start_delay'] > 0.0:
+            rospy.loginfo('Starting in %.1f s', self.settings['start_delay'])
+            rospy.sleep(self.settings['start_delay'])
+        timeout = rospy.Duration(self.settings['tf_timeout'])
+        rate = rospy.Rate(self.settings['rate'])
+        blind = self.followed is None
+        pose = Pose2D(0.0, 0.0, 0.0) if blind else None
+        last_stamp = None
+        fresh_at = rospy.Time.now()
+        while not rospy.is_shutdown():
+            now = rospy.Time.now()
+            reading = None if blind else self.lookup()
+            if reading is not None and (last_stamp is None
+                                        or reading[1] > last_stamp):
+                pose, last_stamp = reading
+                fresh_at = now
+            elif not blind and now - fresh_at > timeout:
+                self.stop()
+                raise CourseAborted(
+                    'tf %s -> %s has not been updated for %.2f s (limit '
+                    '~tf_timeout %.2f s): robot driver or simulator gone? '
+                    'Stopped the robot.' % (
+                        self.odom_frame, self.followed,
+                        (now - fresh_at).to_sec(), timeout.to_sec()))
+            if pose is None:  # found a moment ago; lookups may lag a cycle
+                rate.sleep()
+                continue
+            self.publish(course.update(pose, now.to_sec()))
+            for event in course.pop_events():
+                rospy.loginfo(event)
+            if course.done:
+                break
+            rate.sleep()
+        if not course.done:
+            raise rospy.ROSInterruptException('shutdown before the course ended')
+        self.stop()
+        return None if blind else pose
+
+    def summarize(self, course, final):
+        """Log the final pose against the start and the course time."""
+        if final is None:
+            rospy.loginfo('Course complete in %.1f s (no odometry: final pose '
+                          'unknown)', course.elapsed)
+            return
+        start = course.start_pose
+        error, heading = pose_error(final, course.ideal_end(start))
+        rospy.loginfo(
+            'Course complete in %.1f s: final pose relative to start in %s: '
+            'dx %+.1f mm, dy %+.1f mm, dyaw %+.2f deg; error from the ideal '
+            'end pose: position %.1f mm, heading %+.2f deg',
+            course.elapsed, self.odom_frame, 1000.0 * (final.x - start.x),
+            1000.0 * (final.y - start.y),
+            math.degrees(normalize_angle(final.yaw - start.yaw)),
+            1000.0 * error, math.degrees(heading))
+
+
+def guarded(name, runner, work):
+    """Run ``work()``; log why it failed; stop the robot; return the status.
+
+    0 when ``work`` returned, 1 when it raised (CourseAborted, an
+    interruption, any exception).
+    """
+    try:
+        work()
+        return 0
+    except CourseAborted as err:
+        rospy.logerr('%s: %s', name, err)
+    except rospy.ROSInterruptException:
+        rospy.logwarn('%s: interrupted; robot stopped', name)
+    except Exception as err:  # log it, stop the robot, exit non-zero
+        rospy.logerr('%s: %s: %s; stopping the robot', name,
+                     type(err).__name__, err, exc_info=True)
+    finally:
+        runner.stop()
+    return 1
+
+
+def start_node(name, specs):
+    """init_node, then read and log ``specs``; None (logged) if they are bad."""
+    rospy.init_node(name)
+    try:
+        values = read_params(specs)
+    except ValueError as err:
+        rospy.logerr('%s: bad parameters, not moving: %s', name, err)
+        return None
+    rospy.loginfo('%s: %s', name, params.describe(specs, values))
+    return values
+
+
+def run_course_node(name, specs, build_course, rate, require_tf=True):
+    """The whole main() of a course node; returns its exit status.
+
+    ``specs`` are the node's own parameters (the common ones, with ``rate``
+    as default control rate, are added); ``build_course(values)`` returns
+    the :class:`rbx1_nav.motion.Course` to drive.
+    """
+    all_specs = tuple(specs) + common_params(rate)
+    values = start_node(name, all_specs)
+    if values is None:
+        return 1
+    try:
+        course = build_course(values)
+    except ValueError as err:
+        rospy.logerr('%s: bad parameters, not moving: %s', name, err)
+        return 1
+    runner = MotionRunner(name, values, require_tf)
+
+    def work():
+        runner.summarize(course, runner.run(course))
+
+    return guarded(name, runner, work)
+
+
+def exit_node(name, status):
+    """Shut rospy down and exit with ``status`` (the last line of a node)."""
+    rospy.signal_shutdown('%s finished' % name)
+    raise SystemExit(status)
