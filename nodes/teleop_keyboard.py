@@ -31,7 +31,8 @@ import warnings
 import rospy
 from geometry_msgs.msg import Twist
 
-from rbx1_nav.teleop import (DEFAULTS, QUIT_KEYS, STOP, KeyboardTeleop,
+from rbx1_nav import params
+from rbx1_nav.teleop import (PARAMS, QUIT_KEYS, STOP, KeyboardTeleop,
                              check_settings, help_text)
 
 NOT_A_TERMINAL = (
@@ -86,16 +87,15 @@ class TeleopKeyboard(object):
 
     def __init__(self, settings):
         self.teleop = KeyboardTeleop(**dict(
-            (name, settings[name]) for name in (
-                'linear_speed', 'angular_speed', 'max_linear_speed',
-                'max_angular_speed', 'key_timeout')))
+            (name, value) for name, value in settings.items()
+            if name != 'rate'))
         self.period = rospy.Duration(1.0 / settings['rate'])
         # No queue_size: publish() writes in the calling thread, so the stop
         # from the shutdown hook is sent before rospy closes the connection
         # (a queued publisher's thread may not get to it).
         with warnings.catch_warnings():
             warnings.simplefilter('ignore', SyntaxWarning)
-            self.cmd_vel = rospy.Publisher('cmd_vel', Twist, tcp_nodelay=True)
+            self.cmd_vel = rospy.Publisher('cmd_vel', Twist, tcp_nodelay=True, queue_size=1)
         # Reentrant: a signal's shutdown hook runs in the main thread, maybe
         # while it is publishing; rosnode kill runs it in another thread.
         self.lock = threading.RLock()
@@ -167,15 +167,13 @@ def main():
         return 1
     rospy.init_node('teleop_keyboard')
     try:
-        settings = check_settings(dict(
-            (name, rospy.get_param('~' + name, default))
-            for name, default in DEFAULTS))
+        settings = check_settings(
+            lambda name, default: rospy.get_param('~' + name, default))
     except ValueError as err:
         rospy.logerr('teleop_keyboard: bad parameters, not starting: %s', err)
         return 1
     rospy.loginfo('teleop_keyboard: publishing %s; %s', rospy.resolve_name(
-        'cmd_vel'), ', '.join('%s %g' % (name, settings[name])
-                              for name, _ in DEFAULTS))
+        'cmd_vel'), params.describe(PARAMS, settings))
     # Closing the terminal window (SIGHUP) must stop the robot too.
     signal.signal(signal.SIGHUP, lambda signum, frame: rospy.signal_shutdown(
         'terminal closed'))

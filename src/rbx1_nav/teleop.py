@@ -23,18 +23,13 @@ stream of repeats. So a motion lasts ``key_timeout`` seconds after its last
 key press; with no motion key for that long the command drops to zero.
 Speed keys do not extend a motion.
 """
-from collections import namedtuple
-
 from rbx1_nav import params
+from rbx1_nav.motion import MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED, STOP, Command
+from rbx1_nav.params import param
 
 __all__ = ['Command', 'STOP', 'MOTION_KEYS', 'STOP_KEYS', 'SPEED_KEYS',
-           'QUIT_KEYS', 'DEFAULTS', 'MAX_LINEAR_SPEED', 'MAX_ANGULAR_SPEED',
-           'check_settings', 'Speeds', 'KeyboardTeleop', 'help_text']
-
-Command = namedtuple('Command', 'linear angular')
-Command.__doc__ = 'A velocity command: forward speed (m/s), turn rate (rad/s).'
-
-STOP = Command(0.0, 0.0)
+           'QUIT_KEYS', 'PARAMS', 'check_settings', 'Speeds',
+           'KeyboardTeleop', 'help_text']
 
 # key: (sign of linear speed, sign of angular speed, name); angular > 0 is
 # counter-clockwise (left), as in REP 103.
@@ -57,40 +52,45 @@ SPEED_KEYS = {
 }
 QUIT_KEYS = ('Q', '\x03')  # Q, or Ctrl-C (a key, not a signal: ISIG is off)
 
-# The node's private parameters and their defaults.
-DEFAULTS = (('linear_speed', 0.2), ('angular_speed', 1.0),
-            ('max_linear_speed', 1.0), ('max_angular_speed', 3.0),
-            ('key_timeout', 0.6), ('rate', 10.0))
+_POSITIVE = dict(minimum=0.0, allow_zero=False)
 
-# Past these a maximum is a typo (or a unit mix-up) for a TurtleBot-class
-# robot, and the node refuses to start.
-MAX_LINEAR_SPEED = 2.0   # m/s
-MAX_ANGULAR_SPEED = 6.3  # rad/s, about one turn a second
-MAX_KEY_TIMEOUT = 10.0   # s; longer is no longer a key-release timeout
+# The node's private parameters. The package-wide speed limits of
+# rbx1_nav.motion bound the maximums; each speed must be within its maximum.
+PARAMS = (
+    param('linear_speed', 0.2, params.number, 'm/s',
+          'forward speed at start', **_POSITIVE),
+    param('angular_speed', 1.0, params.number, 'rad/s',
+          'turn rate at start', **_POSITIVE),
+    param('max_linear_speed', 1.0, params.number, 'm/s',
+          'the keys never raise the forward speed above this',
+          maximum=MAX_LINEAR_SPEED, **_POSITIVE),
+    param('max_angular_speed', 3.0, params.number, 'rad/s',
+          'the keys never raise the turn rate above this',
+          maximum=MAX_ANGULAR_SPEED, **_POSITIVE),
+    param('key_timeout', 0.6, params.number, 's',
+          'stop when no motion key came for this long',
+          maximum=10.0, **_POSITIVE),
+    param('rate', 10.0, params.number, 'Hz',
+          'cmd_vel repeat rate while a motion key is held',
+          minimum=1.0, maximum=100.0),
+)
 
 
-def check_settings(raw):
-    """Check the node's parameters; return them as a dict of floats.
+def check_settings(lookup):
+    """Read and check the node's parameters; return {name: float}.
 
-    ``raw`` maps each name of :data:`DEFAULTS` to the value read from the
-    parameter server. Raises ValueError naming every unusable value,
-    with '~' before each name as the user would write it.
+    ``lookup(name, default)`` gives a raw value (for the node,
+    ``rospy.get_param('~' + name, default)``). Raises ValueError naming
+    every unusable value, with '~' before each name as the user writes it;
+    a speed above its maximum is reported once the values themselves pass.
     """
-    problems, values = [], {}
-
-    def check(name, **options):
-        try:
-            values[name] = params.number('~' + name, raw[name], **options)
-        except ValueError as err:
-            problems.append(str(err))
-
-    positive = dict(minimum=0.0, allow_zero=False)
-    check('max_linear_speed', maximum=MAX_LINEAR_SPEED, **positive)
-    check('max_angular_speed', maximum=MAX_ANGULAR_SPEED, **positive)
-    check('linear_speed', maximum=values.get('max_linear_speed'), **positive)
-    check('angular_speed', maximum=values.get('max_angular_speed'), **positive)
-    check('key_timeout', maximum=MAX_KEY_TIMEOUT, **positive)
-    check('rate', minimum=1.0, maximum=100.0)
+    values, problems = params.read_all(PARAMS, lookup, prefix='~')
+    each_valid = not problems
+    for speed in ('linear_speed', 'angular_speed'):
+        top = 'max_' + speed
+        if each_valid and values[speed] > values[top]:
+            problems.append('~%s must be <= ~%s (%g), got %g' % (
+                speed, top, values[top], values[speed]))
     if problems:
         raise ValueError('; '.join(problems))
     return values

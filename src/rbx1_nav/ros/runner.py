@@ -14,6 +14,7 @@ when ``/clock`` stops under simulated time. Exit status 0 only after a
 completed course.
 """
 import math
+import signal
 import threading
 import time
 
@@ -82,9 +83,11 @@ class MotionRunner(object):
         self.base_frame = settings['base_frame']  # '' = automatic
         self.followed = None  # the base frame found on tf
         self.cmd_vel = rospy.Publisher('cmd_vel', Twist, queue_size=5)
+        self.lock = threading.Lock()
+        self.halted = False
         # on_shutdown hooks run before rospy closes its topics (Ctrl-C,
         # rosnode kill, roslaunch ending), so this stop still goes out.
-        rospy.on_shutdown(self.stop)
+        rospy.on_shutdown(self.halt)
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
         self._clock_ready = False
@@ -93,10 +96,19 @@ class MotionRunner(object):
         """Command zero velocity."""
         self.cmd_vel.publish(Twist())
 
+    def halt(self):
+        """Stop for good: the node is shutting down (from any thread)."""
+        with self.lock:
+            self.halted = True
+            self.stop()
+
     def publish(self, command):
+        """Send a course command, unless the node is shutting down."""
         twist = Twist()
         twist.linear.x, twist.angular.z = command.linear, command.angular
-        self.cmd_vel.publish(twist)
+        with self.lock:
+            if not self.halted:
+                self.cmd_vel.publish(twist)
 
     def wait_for_clock(self):
         """Under /use_sim_time, wait (wall time) for the first /clock."""
@@ -305,9 +317,24 @@ def guarded(name, runner, work):
     return 1
 
 
+def _shutdown_on_signal(signum, frame):
+    """SIGINT/SIGTERM: shut rospy down from another thread.
+
+    rospy's own handler calls signal_shutdown in the main thread, inside
+    whatever that thread was doing; during a call to the master (a
+    set_param, say) it then waits for the master connection's lock that the
+    interrupted call holds, and the node hangs. From a thread of its own,
+    the shutdown waits for the call to finish instead.
+    """
+    threading.Thread(target=rospy.signal_shutdown, daemon=True,
+                     args=('signal %d' % signum,)).start()
+
+
 def start_node(name, specs):
     """init_node, then read and log ``specs``; None (logged) if they are bad."""
-    rospy.init_node(name)
+    rospy.init_node(name, disable_signals=True)
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, _shutdown_on_signal)
     try:
         values = read_params(specs)
     except ValueError as err:

@@ -1,0 +1,24 @@
+#!/usr/bin/env python3
+"""calibrate_angular.py - find the driver's odom_angular_scale_correction.
+
+The ROS By Example calibration: on start_test, turn ~test_angle on odometry
+(tf odom -> base), let the robot settle, and compare what odometry says
+with the angle really turned (measured on the floor, or from
+~ground_truth_topic). Prints odom_angular_scale_correction = measured /
+odometry.
+
+  rosrun rbx1_nav calibrate_angular.py _start_test:=true
+  rosrun dynamic_reconfigure dynparam set /calibrate_angular measured_angle 352
+
+Reconfigure fields (rbx1_nav.cfg.CalibrateAngularConfig, also private
+parameters): test_angle 360 deg, speed 0.5 rad/s, tolerance 1.0 deg,
+odom_angular_scale_correction 1.0, start_test false, measured_angle 0 (deg).
+Other parameters: ~ground_truth_topic '', ~settle 1.0 s, ~rate 20 Hz and the
+runner's ~odom_frame, ~base_frame, ~tf_wait, ~tf_timeout, ~start_delay.
+"""
+from rbx1_nav.calibration import ANGULAR
+from rbx1_nav.cfg import CalibrateAngularConfig
+from rbx1_nav.ros.calibration import run
+
+if __name__ == '__main__':
+    run(ANGULAR, CalibrateAngularConfig)

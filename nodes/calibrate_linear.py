@@ -1,0 +1,23 @@
+#!/usr/bin/env python3
+"""calibrate_linear.py - find the driver's odom_linear_scale_correction.
+
+The ROS By Example calibration: on start_test, drive ~test_distance on
+odometry (tf odom -> base), let the robot settle, and compare what odometry
+says with the distance measured on the floor (or ~ground_truth_topic).
+Prints odom_linear_scale_correction = measured / odometry.
+
+  rosrun rbx1_nav calibrate_linear.py _start_test:=true
+  rosrun dynamic_reconfigure dynparam set /calibrate_linear measured_distance 0.97
+
+Reconfigure fields (rbx1_nav.cfg.CalibrateLinearConfig, also private
+parameters): test_distance 1.0 m, speed 0.15 m/s, tolerance 0.01 m,
+odom_linear_scale_correction 1.0, start_test false, measured_distance 0.
+Other parameters: ~ground_truth_topic '', ~settle 1.0 s, ~rate 20 Hz and the
+runner's ~odom_frame, ~base_frame, ~tf_wait, ~tf_timeout, ~start_delay.
+"""
+from rbx1_nav.calibration import LINEAR
+from rbx1_nav.cfg import CalibrateLinearConfig
+from rbx1_nav.ros.calibration import run
+
+if __name__ == '__main__':
+    run(LINEAR, CalibrateLinearConfig)

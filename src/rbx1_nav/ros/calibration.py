@@ -1,0 +1,179 @@
+"""The ROS side of calibrate_linear.py and calibrate_angular.py.
+
+Like the book's nodes, each is a dynamic_reconfigure server that waits for
+``start_test``; setting it (from rqt_reconfigure where installed, with
+``rosrun dynamic_reconfigure dynparam set``, or ``_start_test:=true`` on the
+command line) runs one test through rbx1_nav.ros.runner, then clears it.
+The node then needs the distance or angle really covered: from
+``~ground_truth_topic`` (nav_msgs/Odometry, e.g. the simulator's
+ground_truth) when set, otherwise from the ``measured_*`` field the user
+sets after measuring the floor. It prints the scale correction to set on
+the driver (rbx1_nav.calibration) and waits for the next test.
+
+A test that fails (no tf, a stale transform, the clock gone, Ctrl-C) stops
+the robot and ends the node with status 1; Ctrl-C between tests ends it
+with status 0.
+"""
+import threading
+
+import rospy
+from dynamic_reconfigure.server import Server
+from nav_msgs.msg import Odometry
+
+from rbx1_nav import calibration, params
+from rbx1_nav.params import param
+from rbx1_nav.ros.runner import (MotionRunner, common_params, exit_node,
+                                 guarded, start_node)
+from rbx1_nav.transform_utils import Pose2D, quat_to_angle
+
+NODE_PARAMS = (
+    param('ground_truth_topic', '', params.text, '',
+          "Odometry topic that stands in for the tape measure; '' = none",
+          allow_empty=True),
+    param('settle', 1.0, params.number, 's',
+          'stopped time before odometry is read', minimum=0.0, maximum=60.0),
+)
+
+
+def config_problems(config_type):
+    """Reconfigure fields given on the parameter server that are unusable.
+
+    dynamic_reconfigure would clamp an out-of-range number silently and
+    choke on a string; this names them instead.
+    """
+    problems = []
+    for field in config_type.config_description['parameters']:
+        name = '~' + field['name']
+        if not rospy.has_param(name):
+            continue
+        value = rospy.get_param(name)
+        try:
+            if field['type'] == 'bool':
+                params.flag(name, value)
+            else:
+                params.number(name, value, minimum=config_type.min[field['name']],
+                              maximum=config_type.max[field['name']])
+        except ValueError as err:
+            problems.append(str(err))
+    return problems
+
+
+class CalibrationNode(object):
+    """One calibration kind's tests, between reconfigure and the runner."""
+
+    def __init__(self, kind, config_type, settings):
+        self.kind = kind
+        self.name = 'calibrate_' + kind.name
+        self.settings = settings
+        self.runner = MotionRunner(self.name, settings)
+        self.lock = threading.Lock()
+        self.truth = None
+        self.config = None
+        self.odometry = None  # the last test's odometry value, kind's unit
+        self.measured = 0.0  # a new measured_* value to report, or 0
+        self.measured_field = 0.0
+        topic = settings['ground_truth_topic']
+        if topic:
+            rospy.Subscriber(topic, Odometry, self.on_truth, queue_size=100)
+        self.server = Server(config_type, self.on_reconfigure)
+
+    def on_truth(self, msg):
+        p = msg.pose.pose
+        with self.lock:
+            if self.truth is not None:
+                self.truth.add(Pose2D(p.position.x, p.position.y,
+                                      quat_to_angle(p.orientation)))
+
+    def on_reconfigure(self, config, level):
+        with self.lock:
+            self.config = config
+            if config[self.kind.measured] != self.measured_field:
+                self.measured = self.measured_field = config[self.kind.measured]
+        return config
+
+    def spin(self):
+        """Serve tests until shutdown; raises if a test fails."""
+        self.runner.start()
+        rospy.loginfo('%s: ready. Start a test with: rosrun dynamic_reconfigure '
+                      'dynparam set %s start_test true', self.name,
+                      rospy.get_name())
+        poll = rospy.Rate(10)
+        while not rospy.is_shutdown():
+            with self.lock:
+                config = dict(self.config)
+                measured, self.measured = self.measured, 0.0
+            if config['start_test']:
+                self.run_test(config)
+                self.server.update_configuration({'start_test': False,
+                                                  self.kind.measured: 0.0})
+            elif measured > 0.0:
+                self.report(measured, 'measured on the floor')
+            try:
+                poll.sleep()
+            except rospy.ROSInterruptException:
+                break
+
+    def run_test(self, config):
+        kind = self.kind
+        course = calibration.course(kind, config, self.settings['settle'])
+        rospy.loginfo('%s: %s %g %s at %g %s, tolerance %g %s, this node\'s '
+                      '%s %g', self.name, kind.goal, config[kind.goal],
+                      kind.unit, config['speed'], kind.speed_unit,
+                      config['tolerance'], kind.unit, kind.correction,
+                      config[kind.correction])
+        with self.lock:
+            self.truth = (calibration.PoseTrack()
+                          if self.settings['ground_truth_topic'] else None)
+        final = self.runner.run(course)
+        self.odometry = calibration.measure(kind, course.start_pose, final,
+                                            course.yaw_total)
+        rospy.loginfo('%s: odometry says %.4f %s (tf %s -> %s, robot settled)',
+                      self.name, self.odometry, kind.unit,
+                      self.runner.odom_frame, self.runner.followed)
+        with self.lock:
+            truth, self.truth = self.truth, None
+        if truth is not None and truth.first is not None:
+            self.report(truth.value(kind), 'ground truth on %s'
+                        % self.settings['ground_truth_topic'])
+        else:
+            rospy.loginfo(
+                '%s: now measure the %s the robot really %s and give it '
+                '(%s): rosrun dynamic_reconfigure dynparam set %s %s VALUE',
+                self.name, kind.quantity,
+                'travelled' if kind is calibration.LINEAR else 'turned',
+                'metres' if kind is calibration.LINEAR else 'degrees',
+                rospy.get_name(), kind.measured)
+
+    def report(self, measured, source):
+        if self.odometry is None:
+            rospy.logwarn('%s: %s %g given before any test; run a test first '
+                          '(start_test true)', self.name, self.kind.measured,
+                          measured)
+            return
+        try:
+            lines = calibration.report(self.kind, self.odometry, measured, source)
+        except ValueError as err:
+            rospy.logwarn('%s: %s; no correction computed', self.name, err)
+            return
+        for line in lines:
+            rospy.loginfo('%s: %s', self.name, line)
+
+
+def main(kind, config_type):
+    """main() of calibrate_<kind>.py; returns the exit status."""
+    name = 'calibrate_' + kind.name
+    values = start_node(name, NODE_PARAMS + common_params(rate=20.0))
+    if values is None:
+        return 1
+    problems = config_problems(config_type)
+    if problems:
+        rospy.logerr('%s: bad parameters, not moving: %s', name,
+                     '; '.join(problems))
+        return 1
+    node = CalibrationNode(kind, config_type, values)
+    return guarded(name, node.runner, node.spin)
+
+
+def run(kind, config_type):
+    """Run the node as a script: main(), then exit with its status."""
+    exit_node('calibrate_' + kind.name, main(kind, config_type))
