@@ -10,7 +10,7 @@ Publishes:  cmd_vel (geometry_msgs/Twist), relative, so remap or namespace it.
 Parameters (private):
   ~linear_speed 0.2 m/s      ~max_linear_speed 1.0 m/s
   ~angular_speed 1.0 rad/s   ~max_angular_speed 3.0 rad/s
-  ~key_timeout 0.6 s (stop when no motion key came for this long)
+  ~key_timeout 0.8 s (stop when no motion key came for this long)
   ~rate 10 Hz (cmd_vel repeats while a motion key is held)
 Needs a terminal on stdin: run it with rosrun, or from a launch file with
 launch-prefix="xterm -e". Exit status: 0 after a quit (key, Ctrl-C, SIGINT,
@@ -95,7 +95,7 @@ class TeleopKeyboard(object):
         # (a queued publisher's thread may not get to it).
         with warnings.catch_warnings():
             warnings.simplefilter('ignore', SyntaxWarning)
-            self.cmd_vel = rospy.Publisher('cmd_vel', Twist, tcp_nodelay=True, queue_size=1)
+            self.cmd_vel = rospy.Publisher('cmd_vel', Twist, tcp_nodelay=True)
         # Reentrant: a signal's shutdown hook runs in the main thread, maybe
         # while it is publishing; rosnode kill runs it in another thread.
         self.lock = threading.RLock()

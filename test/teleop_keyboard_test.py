@@ -26,6 +26,9 @@ import rostest
 from geometry_msgs.msg import Twist
 
 READY = 'waiting for a key'  # the status line once the keyboard is live
+# Not the node's default name: rostest names this test node after its
+# test-name, teleop_keyboard, and a second node of that name would end it.
+NODE_NAME = 'teleop_under_test'
 
 
 def is_zero(twist):
@@ -74,10 +77,12 @@ class TeleopOnPty(object):
         self.master, self.slave = os.openpty()
         self.before = termios.tcgetattr(self.slave)
         self.chunks = []
+        self.closing = threading.Event()
         # setsid -c: a new session with the pty as controlling terminal, as
         # a terminal window gives; setsid and rosrun exec, so the pid is the
         # node's.
-        args = ['setsid', '-c', 'rosrun', 'rbx1_nav', 'teleop_keyboard.py']
+        args = ['setsid', '-c', 'rosrun', 'rbx1_nav', 'teleop_keyboard.py',
+                '__name:=' + NODE_NAME]
         args += ['_%s:=%s' % item for item in sorted(params.items())]
         self.proc = subprocess.Popen(args, stdin=self.slave, stdout=self.slave,
                                      stderr=self.slave, close_fds=True)
@@ -86,7 +91,7 @@ class TeleopOnPty(object):
 
     def _read(self):
         # Drain the screen all along: a full pty would block the node.
-        while True:
+        while not self.closing.is_set():
             try:
                 if select.select([self.master], [], [], 0.1)[0]:
                     data = os.read(self.master, 4096)
@@ -111,30 +116,37 @@ class TeleopOnPty(object):
         wait_until(lambda: self.proc.poll() is not None, wall_limit)
         return self.proc.poll()
 
+    def hang_up(self):
+        """Close both ends, as closing a terminal window does (once)."""
+        if self.closing.is_set():
+            return
+        self.closing.set()
+        self.reader.join()  # before the fds close and their numbers are reused
+        os.close(self.master)
+        os.close(self.slave)
+
     def close(self):
         if self.proc.poll() is None:
             self.proc.kill()
             self.proc.wait()
-        for fd in (self.master, self.slave):
-            try:
-                os.close(fd)
-            except OSError:
-                pass
+        self.hang_up()
 
 
 class TeleopKeyboardTest(unittest.TestCase):
 
     @classmethod
     def setUpClass(cls):
-        cls.params = dict((name, float(rospy.get_param('~' + name))) for name in
-                          ('linear_speed', 'angular_speed', 'key_timeout',
-                           'rate'))
+        cls.params = dict(
+            (name, float(rospy.get_param('~' + name)))
+            for name in ('linear_speed', 'angular_speed', 'key_timeout',
+                         'rate'))
         cls.limit = float(rospy.get_param('~wall_limit'))
         cls.tol = float(rospy.get_param('~speed_tolerance'))
+        cls.long_timeout = float(rospy.get_param('~long_key_timeout'))
         cls.watch = CmdVelWatch()
 
-    def start(self):
-        node = TeleopOnPty(self.params)
+    def start(self, **params):
+        node = TeleopOnPty(dict(self.params, **params))
         self.addCleanup(node.close)
         self.assertTrue(wait_until(lambda: READY in node.screen
                                    or node.proc.poll() is not None,
@@ -171,6 +183,12 @@ class TeleopKeyboardTest(unittest.TestCase):
         last = self.watch.since(0)[-1][1]
         self.assertTrue(is_zero(last), 'last cmd_vel was %s' % last)
 
+    def assert_moving_until(self, start, moment):
+        """Every Twist from ``start`` up to ``moment`` was a motion."""
+        before = [m for t, m in self.watch.since(start) if t <= moment]
+        self.assertTrue(before and not any(is_zero(m) for m in before),
+                        'the robot had stopped before the test ended it')
+
     def assert_terminal_restored(self, node):
         after = termios.tcgetattr(node.slave)
         for flag in ('ECHO', 'ICANON', 'ISIG'):
@@ -200,6 +218,8 @@ class TeleopKeyboardTest(unittest.TestCase):
               '%d motion messages before it' % (stopped - sent,
                                                 self.params['key_timeout'],
                                                 len(motion)))
+        # Exact, not a timing tolerance: the node saw the key after `sent`
+        # and the zero arrived after the node decided to stop.
         self.assertGreaterEqual(stopped - sent, self.params['key_timeout'])
         self.assertTrue(all(self.moving_forward(m) for m in motion))
         self.assertGreaterEqual(len(motion), 2, 'the command was not repeated')
@@ -212,21 +232,29 @@ class TeleopKeyboardTest(unittest.TestCase):
         self.assert_stopped_and_gone(node)
         self.assert_terminal_restored(node)
 
+    # In the next two, a key timeout longer than any wait keeps the robot
+    # moving until the signal: only the node's exit path can stop it.
+
     def test_sigint_stops_and_restores_the_terminal(self):
-        node = self.start()
-        self.press(node, 'u', lambda m: m.linear.x > 0 and m.angular.z > 0,
-                   "'u': forward-left Twist")
+        node = self.start(key_timeout=self.long_timeout)
+        _, start, _ = self.press(
+            node, 'u', lambda m: m.linear.x > 0 and m.angular.z > 0,
+            "'u': forward-left Twist")
+        signalled = time.monotonic()
         node.proc.send_signal(signal.SIGINT)
         self.assertEqual(node.wait(self.limit), 0, node.screen)
+        self.assert_moving_until(start, signalled)
         self.assert_stopped_and_gone(node)
         self.assert_terminal_restored(node)
 
     def test_terminal_closed_stops_the_robot(self):
-        node = self.start()
-        self.press(node, ',', lambda m: m.linear.x < 0, "',': backward Twist")
-        os.close(node.slave)  # the test's copy: only the node holds it now
-        os.close(node.master)  # like closing the terminal window: SIGHUP
+        node = self.start(key_timeout=self.long_timeout)
+        _, start, _ = self.press(node, ',', lambda m: m.linear.x < 0,
+                                 "',': backward Twist")
+        closed = time.monotonic()
+        node.hang_up()  # the node gets SIGHUP, and EIO from its terminal
         self.assertEqual(node.wait(self.limit), 0)
+        self.assert_moving_until(start, closed)
         self.assert_stopped_and_gone(node)
 
     def test_refuses_to_run_without_a_terminal(self):

@@ -67,7 +67,7 @@ PARAMS = (
     param('max_angular_speed', 3.0, params.number, 'rad/s',
           'the keys never raise the turn rate above this',
           maximum=MAX_ANGULAR_SPEED, **_POSITIVE),
-    param('key_timeout', 0.6, params.number, 's',
+    param('key_timeout', 0.8, params.number, 's',
           'stop when no motion key came for this long',
           maximum=10.0, **_POSITIVE),
     param('rate', 10.0, params.number, 'Hz',

@@ -9,52 +9,10 @@ import math
 import pytest
 from hypothesis import given, settings, strategies as st
 
+from ideal_robot import DT, IdealRobot, run
 from rbx1_nav.out_and_back import (STOP, Command, CourseConfig, OutAndBack,
                                    Pose2D, expected_end_pose, pose_error)
 from rbx1_nav.transform_utils import normalize_angle
-
-DT = 0.05  # the book's 20 Hz control rate
-
-
-class IdealRobot(object):
-    """A unicycle that follows each command exactly for one period.
-
-    ``delay`` periods of latency model the command reaching the driver a
-    cycle late; ``yaw_rate_bias`` (rad/s) models a robot that drifts.
-    """
-
-    def __init__(self, pose=Pose2D(0.0, 0.0, 0.0), delay=0, yaw_rate_bias=0.0):
-        self.x, self.y, self.yaw = pose
-        self.pending = [STOP] * delay
-        self.bias = yaw_rate_bias
-
-    @property
-    def pose(self):
-        return Pose2D(self.x, self.y, normalize_angle(self.yaw))
-
-    def step(self, cmd, dt):
-        self.pending.append(cmd)
-        linear, angular = self.pending.pop(0)
-        angular += self.bias if linear else 0.0
-        mid = self.yaw + 0.5 * angular * dt
-        self.x += linear * dt * math.cos(mid)
-        self.y += linear * dt * math.sin(mid)
-        self.yaw += angular * dt
-
-
-def run(machine, robot, t0=100.0, limit=600.0):
-    """Run the course like the node does; return (time, phase, command) rows."""
-    rows, t = [], t0
-    while not machine.done:
-        assert t - t0 < limit, 'course did not finish'
-        phase_before = machine.phase
-        cmd = machine.update(robot.pose, t)
-        rows.append((t, phase_before if machine.phase == 'pause' else
-                     machine.phase, cmd))
-        robot.step(cmd, DT)
-        t += DT
-    return rows
-
 
 def segments(rows):
     """Collapse rows into (kind, start time, end time) runs.

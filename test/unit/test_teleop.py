@@ -1,11 +1,19 @@
-"""Unit tests for rbx1_nav.teleop: the keyboard teleop's keys, speeds, timeout."""
+"""Unit tests for rbx1_nav.teleop: keyboard teleop keys, speeds, timeout."""
 import math
 
 import pytest
 
-from rbx1_nav.teleop import (DEFAULTS, MOTION_KEYS, QUIT_KEYS, SPEED_KEYS,
+from rbx1_nav.motion import MAX_ANGULAR_SPEED
+from rbx1_nav.teleop import (MOTION_KEYS, PARAMS, QUIT_KEYS, SPEED_KEYS,
                              STOP, STOP_KEYS, KeyboardTeleop, Speeds,
                              check_settings, help_text)
+
+DEFAULTS = dict((spec.name, spec.default) for spec in PARAMS)
+
+
+def settings(**raw):
+    """check_settings() on the defaults with ``raw`` values set."""
+    return check_settings(lambda name, default: raw.get(name, default))
 
 
 def teleop(**options):
@@ -15,7 +23,7 @@ def teleop(**options):
     return KeyboardTeleop(**settings)
 
 
-# --- key map -------------------------------------------------------------------
+# --- key map -----------------------------------------------------------------
 
 @pytest.mark.parametrize('key,linear,angular', [
     ('i', 0.2, 0.0), (',', -0.2, 0.0), ('j', 0.0, 1.0), ('l', 0.0, -1.0),
@@ -35,8 +43,9 @@ def test_stop_keys_and_unknown_keys_stop(key):
     assert not t.moving and not t.quit
 
 
-def test_no_key_sets_apart_motion_speed_stop_and_quit_keys():
-    groups = [set(MOTION_KEYS), set(STOP_KEYS), set(SPEED_KEYS), set(QUIT_KEYS)]
+def test_key_groups_do_not_overlap():
+    groups = [set(MOTION_KEYS), set(STOP_KEYS), set(SPEED_KEYS),
+              set(QUIT_KEYS)]
     assert sum(len(g) for g in groups) == len(set.union(*groups))
     assert set(STOP_KEYS) == {'k', ' '}
     assert set(QUIT_KEYS) == {'Q', '\x03'}
@@ -59,7 +68,7 @@ def test_no_key_before_any_key_is_a_stop():
     assert t.release_in(0.0) is None
 
 
-# --- speeds --------------------------------------------------------------------
+# --- speeds ------------------------------------------------------------------
 
 @pytest.mark.parametrize('key,linear,angular', [
     ('q', 0.22, 1.1), ('z', 0.18, 0.9), ('w', 0.22, 1.0), ('x', 0.18, 1.0),
@@ -104,7 +113,7 @@ def test_lowering_keeps_speeds_positive():
     assert t.update('i', 0.0).linear > 0.0
 
 
-# --- key-release timeout -------------------------------------------------------
+# --- key-release timeout -----------------------------------------------------
 
 def test_motion_stops_key_timeout_after_the_last_motion_key():
     t = teleop(key_timeout=0.6)
@@ -142,7 +151,7 @@ def test_a_new_motion_key_restarts_the_timeout():
     assert t.update(None, 1.901) == STOP
 
 
-# --- status and help -----------------------------------------------------------
+# --- status and help ---------------------------------------------------------
 
 def test_status_shows_speeds_command_and_last_key():
     t = teleop()
@@ -165,38 +174,50 @@ def test_help_names_every_key_and_the_timeout():
     assert max(len(line) for line in text.splitlines()) < 80
 
 
-# --- settings ------------------------------------------------------------------
+# --- settings ----------------------------------------------------------------
 
-def test_defaults_pass_the_checks():
-    assert check_settings(dict(DEFAULTS)) == dict(DEFAULTS)
+def test_defaults_are_the_documented_ones_and_pass_the_checks():
+    assert DEFAULTS == dict(linear_speed=0.2, angular_speed=1.0,
+                            max_linear_speed=1.0, max_angular_speed=3.0,
+                            key_timeout=0.6, rate=10.0)
+    assert settings() == DEFAULTS
 
 
 def test_settings_accept_numeric_strings():
-    raw = dict(DEFAULTS, linear_speed='0.5', rate=20)
-    values = check_settings(raw)
+    values = settings(linear_speed='0.5', rate=20)
     assert values['linear_speed'] == 0.5 and values['rate'] == 20.0
+    assert all(type(value) is float for value in values.values())
 
 
 @pytest.mark.parametrize('name,value,message', [
     ('linear_speed', 0.0, '~linear_speed must be > 0'),
-    ('linear_speed', 1.5, '~linear_speed must be > 0 and <= 1'),
-    ('angular_speed', 3.5, '~angular_speed must be > 0 and <= 3'),
     ('angular_speed', math.nan, '~angular_speed must be a finite number'),
-    ('max_linear_speed', 20.0, '~max_linear_speed must be > 0 and <= 2'),
+    ('max_linear_speed', 20.0, '~max_linear_speed must be > 0 and <= 2,'),
     ('max_angular_speed', -1.0, '~max_angular_speed must be > 0'),
+    ('max_angular_speed', 7.0, '~max_angular_speed must be > 0 and <= 6.28'),
     ('key_timeout', 0, '~key_timeout must be > 0'),
-    ('key_timeout', 600, '~key_timeout must be > 0 and <= 10'),
+    ('key_timeout', 600, '~key_timeout must be > 0 and <= 10,'),
     ('rate', 0.5, '~rate must be >= 1'),
     ('rate', 'fast', '~rate must be a number'),
     ('linear_speed', True, '~linear_speed must be a number')])
 def test_bad_settings_are_named(name, value, message):
     with pytest.raises(ValueError) as err:
-        check_settings(dict(DEFAULTS, **{name: value}))
+        settings(**{name: value})
     assert message in str(err.value)
+
+
+def test_speeds_must_be_within_their_maximums():
+    with pytest.raises(ValueError) as err:
+        settings(linear_speed=1.5, angular_speed=3.5)
+    assert str(err.value) == (
+        '~linear_speed must be <= ~max_linear_speed (1), got 1.5; '
+        '~angular_speed must be <= ~max_angular_speed (3), got 3.5')
+    assert settings(linear_speed=1.5, max_linear_speed=1.5,
+                    max_angular_speed=MAX_ANGULAR_SPEED)['linear_speed'] == 1.5
 
 
 def test_every_bad_setting_is_reported_at_once():
     with pytest.raises(ValueError) as err:
-        check_settings(dict(DEFAULTS, linear_speed=-1, key_timeout='x'))
+        settings(linear_speed=-1, key_timeout='x')
     assert '~linear_speed' in str(err.value)
     assert '~key_timeout' in str(err.value)

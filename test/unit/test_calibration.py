@@ -1,0 +1,112 @@
+"""Unit tests for rbx1_nav.calibration: the tests' courses and the arithmetic."""
+import math
+
+import pytest
+
+from ideal_robot import IdealRobot, run
+from rbx1_nav.calibration import (ANGULAR, LINEAR, PoseTrack, correction,
+                                  course, measure, report)
+from rbx1_nav.transform_utils import Pose2D, normalize_angle
+
+LINEAR_CONFIG = {'test_distance': 1.0, 'speed': 0.15, 'tolerance': 0.01,
+                 'odom_linear_scale_correction': 1.0}
+ANGULAR_CONFIG = {'test_angle': 360.0, 'speed': 0.5, 'tolerance': 1.0,
+                  'odom_angular_scale_correction': 1.0}
+
+
+class MiscalibratedOdometry(object):
+    """What a driver reports for an IdealRobot: distance x ``linear``,
+    rotation x ``angular`` (the fake robot's *_scale_error)."""
+
+    def __init__(self, robot, linear=1.0, angular=1.0):
+        self.robot, self.linear, self.angular = robot, linear, angular
+        self.x = self.y = self.yaw = 0.0
+        self.last = None
+
+    @property
+    def pose(self):
+        true = (self.robot.x, self.robot.y, self.robot.yaw)
+        if self.last is not None:
+            dx, dy = true[0] - self.last[0], true[1] - self.last[1]
+            ds = math.hypot(dx, dy) * self.linear
+            self.yaw += (true[2] - self.last[2]) * self.angular
+            self.x += ds * math.cos(self.yaw)
+            self.y += ds * math.sin(self.yaw)
+        self.last = true
+        return Pose2D(self.x, self.y, normalize_angle(self.yaw))
+
+    def step(self, cmd, dt):
+        self.robot.step(cmd, dt)
+
+
+def calibrate(kind, config, linear=1.0, angular=1.0):
+    """Run the test on a miscalibrated ideal robot; return the correction."""
+    robot = IdealRobot()
+    odometry = MiscalibratedOdometry(robot, linear, angular)
+    test = course(kind, config, settle=1.0)
+    run(test, odometry)
+    odom_value = measure(kind, test.start_pose, odometry.pose, test.yaw_total)
+    truth = measure(kind, Pose2D(0, 0, 0), robot.pose, robot.yaw)
+    return correction(kind, odom_value, truth), odom_value
+
+
+@pytest.mark.parametrize('error', [0.9, 1.0, 1.07])
+def test_linear_test_finds_the_inverse_of_the_distance_error(error):
+    factor, odom = calibrate(LINEAR, LINEAR_CONFIG, linear=error)
+    assert factor == pytest.approx(1.0 / error, rel=1e-6)
+    assert 0.99 <= odom <= 1.0 + 0.15 * 0.05  # stops within the tolerance
+
+
+@pytest.mark.parametrize('error', [0.93, 1.0, 1.05])
+def test_angular_test_finds_the_inverse_of_the_rotation_error(error):
+    factor, odom = calibrate(ANGULAR, ANGULAR_CONFIG, angular=error)
+    assert factor == pytest.approx(1.0 / error, rel=1e-6)
+    assert 359.0 <= odom < 360.0 + math.degrees(0.5 * 0.05)
+
+
+def test_the_node_side_correction_scales_the_goal():
+    # With the right correction set in the node, the robot covers the true
+    # test distance although odometry over-reports it.
+    config = dict(LINEAR_CONFIG, odom_linear_scale_correction=1 / 1.07,
+                  tolerance=0.0)
+    robot = IdealRobot()
+    run(course(LINEAR, config, settle=0.0), MiscalibratedOdometry(robot, 1.07))
+    assert robot.x == pytest.approx(1.0, abs=0.15 * 0.05)
+
+
+def test_pose_track_counts_a_full_turn_as_360_degrees():
+    track = PoseTrack()
+    for k in range(37):
+        track.add(Pose2D(0.0, 0.0, normalize_angle(math.radians(10.0 * k))))
+    assert track.value(ANGULAR) == pytest.approx(360.0)
+    assert track.value(LINEAR) == 0.0
+    track.add(Pose2D(3.0, 4.0, 0.0))
+    assert track.value(LINEAR) == pytest.approx(5.0)
+
+
+def test_report_shows_the_arithmetic_and_the_value_to_set():
+    lines = report(LINEAR, 1.07, 1.0, 'ground truth')
+    assert lines[0] == ('linear test: odometry 1.0700 m, measured 1.0000 m '
+                        '(ground truth)')
+    assert lines[1] == ('odom_linear_scale_correction = measured / odometry = '
+                        '1.0000 / 1.0700 = 0.9346')
+    assert '0.9346' in lines[2] and 'driver' in lines[2]
+    assert 'odom_angular_scale_correction' in report(ANGULAR, 360, 380, 'x')[1]
+
+
+@pytest.mark.parametrize('odometry, measured, words', [
+    (1.0, float('nan'), 'measured distance must be a positive number'),
+    (1.0, -1.0, 'measured distance must be a positive number'),
+    (0.0, 1.0, 'odometry distance must be a positive number'),
+    (1.0, 100.0, r'differs from odometry .* factor 2: a wrong unit \(metres\)'),
+    (1.0, 'one', 'measured distance must be a positive number'),
+])
+def test_unusable_measurements_are_refused_with_the_reason(odometry, measured,
+                                                           words):
+    with pytest.raises(ValueError, match=words):
+        report(LINEAR, odometry, measured, 'tape')
+
+
+def test_an_angle_in_radians_is_caught_as_a_wrong_unit():
+    with pytest.raises(ValueError, match=r'wrong unit \(degrees\)'):
+        correction(ANGULAR, 360.0, 2 * math.pi)

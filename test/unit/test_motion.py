@@ -1,0 +1,140 @@
+"""Unit tests for rbx1_nav.motion: the primitives and the Course, no ROS.
+
+The out-and-back rules are covered in test_out_and_back.py; here the open-
+loop steps, the square, and how steps chain.
+"""
+import math
+
+import pytest
+from hypothesis import given, settings, strategies as st
+
+from ideal_robot import DT, IdealRobot, run
+from rbx1_nav import params
+from rbx1_nav.motion import (PRECISE_PARAMS, STOP, Approach, Course, Drive,
+                             Pause, TimedDrive, TimedTurn, Turn, approach,
+                             legs_course, legs_params, pose_error)
+from rbx1_nav.transform_utils import Pose2D
+
+PRECISE = Approach(1.0, 4.0, 0.005, 0.01)
+
+
+def timed_course(angular_speed, rate, legs=2):
+    return Course(legs_course(1.0, math.pi, legs, 0.2, angular_speed,
+                              pause=1.0, period=1.0 / rate))
+
+
+@pytest.mark.parametrize('angular_speed', [0.5, 1.0, 1.3])
+@pytest.mark.parametrize('rate', [50.0, 20.0, 7.0])
+def test_timed_course_ends_at_its_start_on_the_ideal_robot(angular_speed, rate):
+    robot = IdealRobot()
+    run(timed_course(angular_speed, rate), robot, t0=12.3456, dt=1.0 / rate)
+    dist, heading = pose_error(robot.pose, Pose2D(0.0, 0.0, 0.0))
+    # Exact up to float rounding: the last command of each move is scaled
+    # to the time left in it.
+    assert dist < 1e-9
+    assert abs(heading) < 1e-9
+
+
+def test_timed_moves_last_distance_over_speed_and_ignore_odometry():
+    course = Course([TimedDrive(1.0, 0.2, DT), TimedTurn(-math.pi / 2, 0.5, DT)])
+    rows, t, pose = [], 0.0, Pose2D(5.0, 5.0, 1.0)  # a pose that never changes
+    while not course.done:
+        rows.append(course.update(pose, t))
+        t += DT
+    drive = [c.linear for c in rows if c.linear]
+    turn = [c.angular for c in rows if c.angular]
+    assert sum(drive) * DT == pytest.approx(1.0, abs=1e-9)
+    assert len(drive) == math.ceil(1.0 / 0.2 / DT - 1e-9)
+    assert sum(turn) * DT == pytest.approx(-math.pi / 2, abs=1e-9)
+    assert all(-0.5 <= w < 0 for w in turn)
+    assert 'drove for 5.00 s' in course.pop_events()[0]
+
+
+def test_square_precise_ends_at_its_start():
+    robot = IdealRobot(Pose2D(1.0, -2.0, 0.4))
+    course = Course(legs_course(1.0, math.pi / 2, 4, 0.2, 0.7,
+                                math.radians(2.0), 1.0, PRECISE))
+    run(course, robot)
+    dist, heading = pose_error(robot.pose, Pose2D(1.0, -2.0, 0.4))
+    assert dist < 0.002
+    assert abs(math.degrees(heading)) < 0.1
+    assert course.ideal_end(Pose2D(1.0, -2.0, 0.4)) == pytest.approx(
+        Pose2D(1.0, -2.0, 0.4))
+
+
+def test_square_book_mode_stops_each_corner_up_to_the_tolerance_short():
+    robot = IdealRobot()
+    course = Course(legs_course(1.0, math.pi / 2, 4, 0.2, 0.7,
+                                math.radians(2.0), 1.0))
+    run(course, robot)
+    turns = [e for e in course.pop_events() if 'turned' in e]
+    assert len(turns) == 4
+    for event in turns:
+        turned = float(event.split('turned ')[1].split(' deg')[0])
+        # stops once turned + 2 >= 90; a 20 Hz tick turns 2.0 deg at 0.7 rad/s
+        assert 88.0 - 0.05 <= turned < 88.0 + math.degrees(0.7 * DT)
+    # four corners, each at most the tolerance short
+    assert abs(math.degrees(pose_error(robot.pose, Pose2D(0, 0, 0))[1])) < 8.0
+
+
+def test_a_move_after_a_move_is_separated_by_one_stop():
+    course = Course([Turn(0.1, 1.0), Turn(0.1, 1.0)])
+    robot = IdealRobot()
+    rows = run(course, robot)
+    commands = [c for _, _, c in rows]
+    assert commands.count(STOP) == 2  # the end of each turn
+    assert commands[-1] == STOP
+    assert robot.yaw == pytest.approx(0.2, abs=1.0 * DT)
+
+
+def test_drive_tolerance_stops_short_and_precise_ignores_it():
+    for tolerance, low, high in ((0.05, 0.95, 0.95 + 0.15 * DT),
+                                 (0.0, 1.0, 1.0 + 0.15 * DT)):
+        robot = IdealRobot()
+        run(Course([Drive(1.0, 0.15, tolerance)]), robot)
+        assert low <= robot.x <= high + 1e-9
+    robot = IdealRobot()
+    run(Course([Drive(1.0, 0.15, 0.05, PRECISE)]), robot)
+    assert robot.x == pytest.approx(1.0, abs=0.001)
+
+
+def test_a_course_ending_in_a_pause_is_done_after_it():
+    course = Course([Pause(0.5)])
+    assert course.update(Pose2D(0, 0, 0), 0.0) == STOP and not course.done
+    assert course.update(Pose2D(0, 0, 0), 0.4) == STOP and not course.done
+    assert course.update(Pose2D(0, 0, 0), 0.5) == STOP and course.done
+    assert course.elapsed == 0.5
+
+
+def test_an_empty_course_is_refused():
+    with pytest.raises(ValueError, match='at least one step'):
+        Course([])
+
+
+@given(yaws=st.lists(st.floats(-math.pi, math.pi), min_size=2, max_size=40))
+@settings(max_examples=50, deadline=None)
+def test_yaw_total_is_the_sum_of_the_wrapped_changes(yaws):
+    course = Course([Pause(1000.0)])
+    for k, yaw in enumerate(yaws):
+        course.update(Pose2D(0.0, 0.0, yaw), float(k))
+    total = sum(math.remainder(b - a, 2 * math.pi)
+                for a, b in zip(yaws, yaws[1:]))
+    assert course.yaw_total == pytest.approx(total, abs=1e-9)
+
+
+def test_legs_params_defaults_units_and_checks():
+    specs = legs_params(0.2, 1.0, 0.7, 90.0, angle_unit='deg',
+                        angular_tolerance=2.0) + PRECISE_PARAMS
+    values, problems = params.read_all(specs, lambda name, default: default)
+    assert problems == []
+    assert (values['goal_angle'], values['angular_tolerance']) == (90.0, 2.0)
+    assert 'legs' not in values
+    assert approach(values) is None
+    assert 'goal_angle 90 deg' in params.describe(specs, values)
+    assert 'precise off' in params.describe(specs, values)
+    bad = {'linear_speed': 50.0, 'precise': 'maybe'}
+    values, problems = params.read_all(
+        specs, lambda name, default: bad.get(name, default), '~')
+    assert len(problems) == 2
+    assert problems[0].startswith('~linear_speed must be > 0 and <= 2')
+    assert values['linear_speed'] == 0.2  # the default stands in
