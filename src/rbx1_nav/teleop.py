@@ -122,7 +122,7 @@ class KeyboardTeleop(object):
 
     def __init__(self, linear_speed=0.2, angular_speed=1.0,
                  max_linear_speed=1.0, max_angular_speed=3.0,
-                 key_timeout=0.6):
+                 key_timeout=0.8):
         self.speeds = Speeds(linear_speed, angular_speed, max_linear_speed,
                              max_angular_speed)
         self.key_timeout = key_timeout

@@ -179,7 +179,7 @@ def test_help_names_every_key_and_the_timeout():
 def test_defaults_are_the_documented_ones_and_pass_the_checks():
     assert DEFAULTS == dict(linear_speed=0.2, angular_speed=1.0,
                             max_linear_speed=1.0, max_angular_speed=3.0,
-                            key_timeout=0.6, rate=10.0)
+                            key_timeout=0.8, rate=10.0)
     assert settings() == DEFAULTS
 
 
