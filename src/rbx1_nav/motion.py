@@ -175,26 +175,38 @@ class Pause(Step):
 
 
 class _Drive(Step):
-    kind = DRIVE
+    """What every drive has: a goal (m, negative: backwards) and a speed."""
+
+    kind, verb = DRIVE, 'drove'
 
     def __init__(self, distance, speed, label=''):
         Step.__init__(self, label)
-        self.distance, self.speed = float(distance), abs(float(speed))
+        self.goal, self.speed = float(distance), abs(float(speed))
+
+    @staticmethod
+    def command(speed):
+        return Command(speed, 0.0)
 
     def ideal_end(self, pose):
-        return Pose2D(pose.x + self.distance * math.cos(pose.yaw),
-                      pose.y + self.distance * math.sin(pose.yaw), pose.yaw)
+        return Pose2D(pose.x + self.goal * math.cos(pose.yaw),
+                      pose.y + self.goal * math.sin(pose.yaw), pose.yaw)
 
 
 class _Turn(Step):
-    kind = TURN
+    """What every turn has: a goal (rad, negative: clockwise) and a speed."""
+
+    kind, verb = TURN, 'turned'
 
     def __init__(self, angle, speed, label=''):
         Step.__init__(self, label)
-        self.angle, self.speed = float(angle), abs(float(speed))
+        self.goal, self.speed = float(angle), abs(float(speed))
+
+    @staticmethod
+    def command(speed):
+        return Command(0.0, speed)
 
     def ideal_end(self, pose):
-        return Pose2D(pose.x, pose.y, normalize_angle(pose.yaw + self.angle))
+        return Pose2D(pose.x, pose.y, normalize_angle(pose.yaw + self.goal))
 
 
 class Drive(_Drive):
@@ -215,7 +227,7 @@ class Drive(_Drive):
     def update(self, course, pose, now):
         course.distance = math.hypot(pose.x - self.start.x,
                                      pose.y - self.start.y)
-        remaining = abs(self.distance) - course.distance
+        remaining = abs(self.goal) - course.distance
         slack = 0.0 if self.approach else self.tolerance
         if remaining - slack <= 0.0:
             self._event(course, 'drove %.3f m' % course.distance, now)
@@ -227,7 +239,7 @@ class Drive(_Drive):
             heading_error = normalize_angle(pose.yaw - self.start.yaw)
             angular = _clamp(-ap.heading_gain * heading_error,
                              -self.heading_rate, self.heading_rate)
-        return Command(math.copysign(speed, self.distance), angular)
+        return Command(math.copysign(speed, self.goal), angular)
 
 
 class Turn(_Turn):
@@ -245,8 +257,8 @@ class Turn(_Turn):
 
     def update(self, course, pose, now):
         course.turned = course.yaw_total - self.anchor
-        direction = math.copysign(1.0, self.angle)
-        remaining = abs(self.angle) - course.turned * direction
+        direction = math.copysign(1.0, self.goal)
+        remaining = abs(self.goal) - course.turned * direction
         slack = 0.0 if self.approach else self.tolerance
         if remaining - slack <= 0.0:
             self._event(course, 'turned %.1f deg' % math.degrees(course.turned),
@@ -256,60 +268,48 @@ class Turn(_Turn):
         if self.approach:
             ap = self.approach
             speed = _clamp(ap.gain * remaining, ap.min_angular_speed, self.speed)
-        return Command(0.0, direction * speed)
+        return self.command(direction * speed)
 
 
-class _Timed(Step):
+class _Timed(object):
     """Open loop: the step's speed for |goal| / speed seconds of ROS time.
 
-    The clock starts at the step's first command. The last cycle commands
-    the fraction of the speed that the remaining time (less than one
-    ``period``) calls for, so the commanded distance or angle is exact
-    whatever the phase of the control ticks.
+    A mixin for _Drive and _Turn. The clock starts at the step's first
+    command. The last cycle commands the fraction of the speed that the
+    remaining time (less than one ``period``) calls for, so the commanded
+    distance or angle is exact whatever the phase of the control ticks.
     """
 
     def __init__(self, period):
         self.period = float(period)
         self.first = None
 
-    def _command(self, goal, speed, now):
+    def update(self, course, pose, now):
         if self.first is None:
             self.first = now
-        remaining = abs(goal) / speed - (now - self.first)
+        remaining = abs(self.goal) / self.speed - (now - self.first)
         if remaining <= 1e-9:
+            self._event(course, '%s for %.2f s' % (self.verb, now - self.first),
+                        now)
             return None
         fraction = min(1.0, remaining / self.period)
-        return math.copysign(speed * fraction, goal)
+        return self.command(math.copysign(self.speed * fraction, self.goal))
 
 
-class TimedDrive(_Drive, _Timed):
+class TimedDrive(_Timed, _Drive):
     """Drive ``distance`` at ``speed`` for distance / speed seconds."""
 
     def __init__(self, distance, speed, period, label=''):
         _Drive.__init__(self, distance, speed, label)
         _Timed.__init__(self, period)
 
-    def update(self, course, pose, now):
-        speed = self._command(self.distance, self.speed, now)
-        if speed is None:
-            self._event(course, 'drove for %.2f s' % (now - self.first), now)
-            return None
-        return Command(speed, 0.0)
 
-
-class TimedTurn(_Turn, _Timed):
+class TimedTurn(_Timed, _Turn):
     """Turn ``angle`` at ``speed`` for angle / speed seconds."""
 
     def __init__(self, angle, speed, period, label=''):
         _Turn.__init__(self, angle, speed, label)
         _Timed.__init__(self, period)
-
-    def update(self, course, pose, now):
-        speed = self._command(self.angle, self.speed, now)
-        if speed is None:
-            self._event(course, 'turned for %.2f s' % (now - self.first), now)
-            return None
-        return Command(0.0, speed)
 
 
 class Course(object):
