@@ -14,7 +14,6 @@ fresh robot with both corrections set; with them, the course must end
 import math
 import os
 import re
-import subprocess
 import sys
 import unittest
 
@@ -23,26 +22,11 @@ import rostest
 import yaml
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), 'helpers'))
-from course_harness import (CourseProcess, RobotWatch,  # noqa: E402
-                            wait_sim, wait_until)
+from course_harness import (CourseProcess, FakeRobot,  # noqa: E402
+                            RobotWatch, wait_sim, wait_until)
 
 CORRECTION = re.compile(r'(odom_(?:linear|angular)_scale_correction) = '
                         r'measured / odometry = \S+ / \S+ = (\S+)')
-
-
-class FakeRobot(object):
-    """fake_turtlebot.py under rosrun, with the given private parameters."""
-
-    def __init__(self, settings):
-        rospy.set_param('/fake_turtlebot', settings)
-        self.proc = subprocess.Popen(['rosrun', 'rbx1_nav', 'fake_turtlebot.py'],
-                                     stdout=subprocess.DEVNULL,
-                                     stderr=subprocess.DEVNULL)
-
-    def close(self):
-        self.proc.terminate()
-        self.proc.wait()
-        rospy.delete_param('/fake_turtlebot')
 
 
 class CalibrationTest(unittest.TestCase):
@@ -62,12 +46,8 @@ class CalibrationTest(unittest.TestCase):
             self.robot.close()
 
     def start_robot(self, **corrections):
-        if self.robot:
-            self.robot.close()
-            # The old robot's last ground_truth must not count as the new one's.
-            self.watch.truth = None
-        self.robot = FakeRobot(dict(self.settings, **corrections))
-        return self.watch.wait_for_truth()
+        self.robot = FakeRobot.restart(self.robot, self.watch,
+                                       dict(self.settings, **corrections))
 
     def calibrate(self, kind):
         """Run calibrate_<kind>.py once; return the correction it prints."""

@@ -87,6 +87,12 @@ class DiffDriveConfig:
     angular_scale_error: float = 1.0    # odometry rotation / true rotation
     odom_linear_scale_correction: float = 1.0   # driver calibration factor
     odom_angular_scale_correction: float = 1.0  # driver calibration factor
+    left_wheel_radius_error: float = 1.0    # true radius / nominal radius
+    right_wheel_radius_error: float = 1.0   # true radius / nominal radius
+    # The driver-side corrections under diff_drive_controller's names:
+    left_wheel_radius_multiplier: float = 1.0
+    right_wheel_radius_multiplier: float = 1.0
+    wheel_separation_multiplier: float = 1.0
     encoder_noise: float = 0.0          # m per sqrt(m) of wheel travel (1 sigma)
     gyro_noise_density: float = 0.0     # rad/s/sqrt(Hz) white rate noise
     gyro_bias: float = 0.0              # rad/s constant rate offset
@@ -160,6 +166,11 @@ CONFIG_LIMITS = {
     'angular_scale_error': (0.0, 100.0, False),
     'odom_linear_scale_correction': (0.0, 100.0, False),
     'odom_angular_scale_correction': (0.0, 100.0, False),
+    'left_wheel_radius_error': (0.0, 100.0, False),
+    'right_wheel_radius_error': (0.0, 100.0, False),
+    'left_wheel_radius_multiplier': (0.0, 100.0, False),
+    'right_wheel_radius_multiplier': (0.0, 100.0, False),
+    'wheel_separation_multiplier': (0.0, 100.0, False),
     'encoder_noise': (0.0, 1.0, True),              # m/sqrt(m)
     'gyro_noise_density': (0.0, 10.0, True),        # rad/s/sqrt(Hz)
     'gyro_bias': (-10.0, 10.0, True),               # rad/s
@@ -270,7 +281,14 @@ class DiffDriveSim:
                 _approach(w, target_w, _max_change(cfg.accel_limit_angular, dt)))
 
     def _update_wheels_and_odometry(self, v, w, dt):
-        """Encoder readings from the true motion, then odometry from them."""
+        """Encoder readings from the true motion, then odometry from them.
+
+        A wheel whose true radius is ``*_wheel_radius_error`` times the
+        nominal one turns that much less for the same ground travel; the
+        driver turns each wheel's angle back into travel with the nominal
+        radius times its ``*_wheel_radius_multiplier``, and the turn with
+        the wheel separation times ``wheel_separation_multiplier``.
+        """
         cfg = self.config
         half_track = 0.5 * cfg.wheel_separation
         travel = np.array([v - w * half_track, v + w * half_track]) * dt
@@ -278,13 +296,17 @@ class DiffDriveSim:
             # Variance grows with distance travelled, not with the step count.
             travel += (cfg.encoder_noise * np.sqrt(np.abs(travel))
                        * self._rng.standard_normal(2))
+        turned = travel / np.array([cfg.left_wheel_radius_error,
+                                    cfg.right_wheel_radius_error])
         for i in (0, 1):
-            self.wheel_angles[i] += travel[i] / cfg.wheel_radius
-            self.wheel_velocities[i] = travel[i] / cfg.wheel_radius / dt
-        left, right = travel
+            self.wheel_angles[i] += turned[i] / cfg.wheel_radius
+            self.wheel_velocities[i] = turned[i] / cfg.wheel_radius / dt
+        left, right = turned * np.array([cfg.left_wheel_radius_multiplier,
+                                         cfg.right_wheel_radius_multiplier])
         ds = (0.5 * (left + right) * cfg.linear_scale_error
               * cfg.odom_linear_scale_correction)
-        dtheta = ((right - left) / cfg.wheel_separation
+        dtheta = ((right - left)
+                  / (cfg.wheel_separation * cfg.wheel_separation_multiplier)
                   * cfg.angular_scale_error * cfg.odom_angular_scale_correction)
         self.odom = arc_step(self.odom, ds, dtheta)
         self.odom_velocity = (ds / dt, dtheta / dt)

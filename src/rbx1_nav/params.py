@@ -17,7 +17,7 @@ from collections import namedtuple
 
 from rbx1_nav.transform_utils import strip_leading_slash
 
-__all__ = ['number', 'integer', 'flag', 'frame', 'text', 'number_list',
+__all__ = ['number', 'integer', 'flag', 'frame', 'text', 'number_list', 'pairs',
            'Param', 'param', 'read_all', 'describe']
 
 
@@ -132,6 +132,26 @@ def number_list(name, value, length, minimum=None, maximum=None,
                          % (name, length, value))
     return [number('%s[%d]' % (name, i), item, minimum, maximum, allow_zero)
             for i, item in enumerate(value)]
+
+
+def pairs(name, value):
+    """``value`` as a list of (x, y) float pairs; '' or [] is no pairs.
+
+    Each pair must be two finite numbers; the message quotes at most 200
+    characters of a bad value.
+    """
+    if isinstance(value, str) and not value.strip():
+        return []
+    problem = '%s must be a list of [x, y] pairs of numbers, got %.200r' % (
+        name, value)
+    if not isinstance(value, (list, tuple)):
+        raise ValueError(problem)
+    result = []
+    for k, item in enumerate(value):
+        if not isinstance(item, (list, tuple)) or len(item) != 2:
+            raise ValueError(problem)
+        result.append(tuple(number('%s[%d]' % (name, k), v) for v in item))
+    return result
 
 
 Param = namedtuple('Param', 'name default check options unit doc')

@@ -3,7 +3,8 @@
 ``CourseProcess`` starts a motion node (``odom_out_and_back.py`` by default)
 the way a user does, with ``rosrun``, so a test sees its exit status and its
 log lines.
-``RobotWatch`` follows one robot's ``ground_truth`` (the simulator's true
+``FakeRobot`` starts the simulator with given parameters, for tests that
+restart it. ``RobotWatch`` follows one robot's ``ground_truth`` (the simulator's true
 pose) and ``cmd_vel`` (what the course commanded), optionally in a namespace.
 Times are ROS times, so under /use_sim_time they are simulated seconds.
 """
@@ -131,6 +132,12 @@ class CourseProcess(object):
         for key, value in sorted((params or {}).items()):
             args.append('_%s:=%s' % (key, value))
         self.args = args
+        if self.node_name == rospy.get_name():
+            raise AssertionError('the node under test would take the test '
+                                 'node\'s name %s: rename the test' % self.node_name)
+        # Private parameters of an earlier run stay on the master; start clean.
+        if rospy.has_param(self.node_name):
+            rospy.delete_param(self.node_name)
         self.lines = []
         self.exit_time = None
         self.start_time = rospy.Time.now()
@@ -177,6 +184,33 @@ class CourseProcess(object):
         if self.proc.poll() is None:
             self.proc.kill()
             self.proc.wait()
+
+
+class FakeRobot(object):
+    """fake_turtlebot.py under rosrun, with the given private parameters."""
+
+    def __init__(self, settings):
+        rospy.set_param('/fake_turtlebot', settings)
+        self.proc = subprocess.Popen(['rosrun', 'rbx1_nav', 'fake_turtlebot.py'],
+                                     stdout=subprocess.DEVNULL,
+                                     stderr=subprocess.DEVNULL)
+
+    def close(self):
+        self.proc.terminate()
+        self.proc.wait()
+        rospy.delete_param('/fake_turtlebot')
+
+    @staticmethod
+    def restart(robot, watch, settings):
+        """Close ``robot`` (or None), start one with ``settings``, wait for
+        its first ground truth; return the new robot."""
+        if robot:
+            robot.close()
+            # The old robot's last ground_truth must not count as the new one's.
+            watch.truth = None
+        robot = FakeRobot(settings)
+        watch.wait_for_truth()
+        return robot
 
 
 def wait_sim(seconds):

@@ -241,6 +241,33 @@ def test_scale_corrections_cancel_the_errors():
         (sim.truth.x, sim.truth.y, sim.truth.yaw), abs=1e-9)
 
 
+def test_a_larger_right_wheel_makes_odometry_see_a_straight_path_curve_right():
+    sim = ideal(right_wheel_radius_error=1.005, wheel_separation=0.26)
+    drive(sim, 0.2, 0.0, 5.0)
+    assert (sim.truth.x, sim.truth.y, sim.truth.yaw) == pytest.approx(
+        (1.0, 0.0, 0.0), abs=1e-9)
+    # The right encoder reads 1 m / 1.005 of travel, the left 1 m.
+    right = 1.0 / 1.005
+    assert sim.odom.yaw == pytest.approx((right - 1.0) / 0.26, abs=1e-9)
+    assert sim.odom.yaw < 0
+    assert sim.wheel_angles[1] == pytest.approx(right / 0.033, abs=1e-9)
+
+
+def test_diff_drive_controller_multipliers_cancel_radius_and_separation_errors():
+    ed, eb = 1.005, 1.02  # right/left diameter ratio, separation error
+    sim = ideal(right_wheel_radius_error=ed, angular_scale_error=eb,
+                left_wheel_radius_multiplier=2.0 / (ed + 1.0),
+                right_wheel_radius_multiplier=2.0 / (1.0 / ed + 1.0),
+                wheel_separation_multiplier=eb)
+    # Both wheels now read 2 / (1 + ed) of their travel: a scale, no curve.
+    scale = 2.0 / (ed + 1.0)
+    drive(sim, 0.2, 0.0, 3.0)
+    assert (sim.odom.x, sim.odom.y, sim.odom.yaw) == pytest.approx(
+        (scale * sim.truth.x, 0.0, 0.0), abs=1e-9)
+    drive(sim, 0.0, 0.4, 3.0, start=3.0)
+    assert sim.odom.yaw == pytest.approx(scale * sim.truth.yaw, abs=1e-9)
+
+
 def test_gyro_follows_true_yaw_rate_despite_odometry_errors():
     sim = ideal(angular_scale_error=1.05, gyro_bias=0.01)
     drive(sim, 0.0, 0.5, 1.0)

@@ -18,18 +18,15 @@ import threading
 
 import rospy
 from dynamic_reconfigure.server import Server
-from nav_msgs.msg import Odometry
 
 from rbx1_nav import calibration, params
 from rbx1_nav.params import param
 from rbx1_nav.ros.runner import (MotionRunner, common_params, exit_node,
                                  guarded, start_node)
-from rbx1_nav.transform_utils import Pose2D, quat_to_angle
+from rbx1_nav.ros.truth import TRUTH_PARAM, GroundTruth
 
 NODE_PARAMS = (
-    param('ground_truth_topic', '', params.text, '',
-          "Odometry topic that stands in for the tape measure; '' = none",
-          allow_empty=True),
+    TRUTH_PARAM,
     param('settle', 1.0, params.number, 's',
           'stopped time before odometry is read', minimum=0.0, maximum=60.0),
 )
@@ -67,22 +64,13 @@ class CalibrationNode(object):
         self.settings = settings
         self.runner = MotionRunner(self.name, settings)
         self.lock = threading.Lock()
-        self.truth = None
         self.config = None
         self.odometry = None  # the last test's odometry value, kind's unit
         self.measured = 0.0  # a new measured_* value to report, or 0
         self.measured_field = 0.0
         topic = settings['ground_truth_topic']
-        if topic:
-            rospy.Subscriber(topic, Odometry, self.on_truth, queue_size=100)
+        self.truth = GroundTruth(topic) if topic else None
         self.server = Server(config_type, self.on_reconfigure)
-
-    def on_truth(self, msg):
-        p = msg.pose.pose
-        with self.lock:
-            if self.truth is not None:
-                self.truth.add(Pose2D(p.position.x, p.position.y,
-                                      quat_to_angle(p.orientation)))
 
     def on_reconfigure(self, config, level):
         with self.lock:
@@ -121,20 +109,18 @@ class CalibrationNode(object):
                       kind.unit, config['speed'], kind.speed_unit,
                       config['tolerance'], kind.unit, kind.correction,
                       config[kind.correction])
-        with self.lock:
-            self.truth = (calibration.PoseTrack()
-                          if self.settings['ground_truth_topic'] else None)
+        if self.truth:
+            self.truth.start()
         final = self.runner.run(course)
         self.odometry = calibration.measure(kind, course.start_pose, final,
                                             course.yaw_total)
         rospy.loginfo('%s: odometry says %.4f %s (tf %s -> %s, robot settled)',
                       self.name, self.odometry, kind.unit,
                       self.runner.odom_frame, self.runner.followed)
-        with self.lock:
-            truth, self.truth = self.truth, None
-        if truth is not None and truth.first is not None:
+        truth = self.truth.stop() if self.truth else None
+        if truth is not None:
             self.report(truth.value(kind), 'ground truth on %s'
-                        % self.settings['ground_truth_topic'])
+                        % self.truth.topic)
         else:
             rospy.loginfo(
                 '%s: now measure the %s the robot really %s and give it '

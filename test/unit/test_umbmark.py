@@ -1,0 +1,146 @@
+"""Unit tests for rbx1_nav.umbmark: a simulated robot with known Ed and Eb,
+driven round the squares on its own odometry, must give them back."""
+import math
+
+import numpy as np
+import pytest
+
+from ideal_robot import run
+from rbx1_nav.motion import STOP, Approach
+from rbx1_nav.umbmark import (analyse, check_errors, corrections, plot,
+                              relative, report, square_course)
+from rbx1_nav.transform_utils import Pose2D, normalize_angle
+
+PRECISE = Approach(1.0, 4.0, 0.005, 0.01)
+B = 0.26  # wheel base (m)
+
+
+class UncalibratedRobot(object):
+    """A differential drive whose right wheel is ``ed`` times the left one
+    (their mean the nominal diameter, as the paper assumes) and whose wheel
+    base is ``eb`` times what its odometry assumes.
+
+    Commands are encoder speeds from the nominal model; the true motion
+    comes from the true wheels, the odometry from the encoders with the
+    nominal model (times the driver's multipliers, if any).
+    """
+
+    def __init__(self, ed=1.0, eb=1.0, start=Pose2D(0.0, 0.0, 0.0),
+                 multipliers=(1.0, 1.0, 1.0)):
+        self.ed, self.eb = ed, eb
+        self.true = list(start)
+        self.odom = [0.0, 0.0, 0.0]
+        self.left_mult, self.right_mult, self.sep_mult = multipliers
+
+    @property
+    def pose(self):
+        return Pose2D(self.odom[0], self.odom[1], normalize_angle(self.odom[2]))
+
+    @property
+    def truth(self):
+        return Pose2D(self.true[0], self.true[1], normalize_angle(self.true[2]))
+
+    @staticmethod
+    def _integrate(pose, left, right, base):
+        ds, dth = 0.5 * (left + right), (right - left) / base
+        mid = pose[2] + 0.5 * dth
+        pose[0] += ds * math.cos(mid)
+        pose[1] += ds * math.sin(mid)
+        pose[2] += dth
+
+    def step(self, cmd, dt, substeps=10):
+        # Encoder travel per wheel, as the driver turns the command into it.
+        enc_left = (cmd.linear - cmd.angular * B / 2) * dt / substeps
+        enc_right = (cmd.linear + cmd.angular * B / 2) * dt / substeps
+        left_size, right_size = 2 / (1 + self.ed), 2 * self.ed / (1 + self.ed)
+        for _ in range(substeps):
+            self._integrate(self.true, enc_left * left_size,
+                            enc_right * right_size, B * self.eb)
+            self._integrate(self.odom, enc_left * self.left_mult,
+                            enc_right * self.right_mult, B * self.sep_mult)
+
+
+def umbmark(robot, runs=5, side=1.0):
+    """Run the squares; return the errors of each direction."""
+    errors = {True: [], False: []}
+    for clockwise in [True] * runs + [False] * runs:
+        course = square_course(side, clockwise, 0.2, 0.5, PRECISE, pause=0.2)
+        true_start, odom_start = robot.truth, robot.pose
+        run(course, robot, limit=3000.0)
+        true_end = relative(true_start, robot.truth)
+        odom_end = relative(odom_start, robot.pose)
+        errors[clockwise].append((true_end[0] - odom_end[0],
+                                  true_end[1] - odom_end[1]))
+    return analyse(errors[True], errors[False], side, B)
+
+
+@pytest.mark.parametrize('ed, eb', [(1.005, 1.02), (1.0, 1.0), (0.99, 0.97),
+                                    (1.01, 1.0), (1.0, 1.03)])
+def test_a_robot_with_known_ed_and_eb_gives_them_back(ed, eb):
+    result = umbmark(UncalibratedRobot(ed, eb))
+    # First-order formulas: Ed - 1 within 5 % of itself, Eb within 0.2 %.
+    assert result.ed - 1.0 == pytest.approx(ed - 1.0, rel=0.05, abs=1e-5)
+    assert result.eb == pytest.approx(eb, rel=2e-3)
+
+
+def test_the_printed_multipliers_shrink_e_max_tenfold():
+    ed, eb = 1.005, 1.02
+    before = umbmark(UncalibratedRobot(ed, eb))
+    factors = corrections(before)
+    fixed = UncalibratedRobot(ed, eb, multipliers=(
+        factors['left_wheel_radius_multiplier'],
+        factors['right_wheel_radius_multiplier'],
+        factors['wheel_separation_multiplier']))
+    after = umbmark(fixed)
+    assert after.e_max * 10 < before.e_max
+    assert factors['odom_angular_scale_correction'] == pytest.approx(1 / eb,
+                                                                     rel=2e-3)
+
+
+def test_the_clusters_follow_the_papers_signs():
+    # A wheel base too large makes every turn short: both clusters move
+    # along -x together; a larger right wheel curves every side left, which
+    # pushes the clusters apart along x.
+    only_eb = umbmark(UncalibratedRobot(1.0, 1.02), runs=1)
+    assert only_eb.cg_cw[0] < 0 and only_eb.cg_ccw[0] < 0
+    only_ed = umbmark(UncalibratedRobot(1.005, 1.0), runs=1)
+    assert only_ed.cg_cw[0] < 0 < only_ed.cg_ccw[0]
+    assert only_ed.beta > 0 and only_eb.alpha > 0
+
+
+def test_relative_is_in_the_start_frame():
+    start = Pose2D(1.0, 2.0, math.pi / 2)
+    assert relative(start, Pose2D(1.0, 3.0, 0.0)) == pytest.approx((1.0, 0.0))
+    assert relative(start, Pose2D(0.0, 2.0, 0.0)) == pytest.approx((0.0, 1.0))
+
+
+@pytest.mark.parametrize('errors, words', [
+    ([[0.01, 0.02]] * 3, r'must be a list of 4 \[x, y\] pairs'),
+    ([[0.01, float('nan')]] * 4, r'errors\[0\] = \[0.01, nan\] is not a finite'),
+    ([[0.01, 0.0]] * 3 + [[1.5, 0.0]], r"errors\[3\] = \[1.5, 0\] is 1.500 m "
+                                       r"from the start, more than the square's"),
+    ('abc', r'must be a list of 4'),
+    ([[0.0, 0.0]] * 4 + [0] * 10 ** 5, r'got \[\[0.0, 0.0\].{0,200}$'),
+])
+def test_bad_measurements_are_refused_with_the_reason(errors, words):
+    with pytest.raises(ValueError, match=words):
+        check_errors(errors, 4, 1.0)
+
+
+def test_report_names_every_figure_and_setting():
+    result = analyse([[-0.05, -0.05]] * 2, [[0.01, -0.01]] * 2, 1.0, B)
+    text = '\n'.join(report(result))
+    for word in ('cw return errors', 'E_max,syst', 'Ed', 'Eb',
+                 'left_wheel_radius_multiplier', 'right_wheel_radius_multiplier',
+                 'wheel_separation_multiplier', 'odom_angular_scale_correction',
+                 'per-wheel radii'):
+        assert word in text
+
+
+def test_plot_writes_a_png(tmp_path):
+    pytest.importorskip('matplotlib')
+    before = analyse([[-0.05, -0.05]] * 3, [[0.01, -0.01]] * 3, 1.0, B)
+    after = analyse([[-0.002, 0.001]] * 3, [[0.001, -0.002]] * 3, 1.0, B)
+    path = tmp_path / 'umbmark.png'
+    plot([before, after], str(path), ['before', 'after'])
+    assert path.read_bytes()[:8] == b'\x89PNG\r\n\x1a\n'
