@@ -21,4 +21,4 @@ from rbx1_nav.cfg import CalibrateAngularConfig
 from rbx1_nav.ros.calibration import run
 
 if __name__ == '__main__':
-    run(ANGULAR, CalibrateAngularConfig)
+    run(ANGULAR, CalibrateAngularConfig, __doc__)

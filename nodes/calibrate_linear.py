@@ -20,4 +20,4 @@ from rbx1_nav.cfg import CalibrateLinearConfig
 from rbx1_nav.ros.calibration import run
 
 if __name__ == '__main__':
-    run(LINEAR, CalibrateLinearConfig)
+    run(LINEAR, CalibrateLinearConfig, __doc__)

@@ -22,7 +22,8 @@ import math
 
 from rbx1_nav.motion import (PRECISE_PARAMS, Course, approach, legs_course,
                              legs_params)
-from rbx1_nav.ros.runner import exit_node, run_course_node
+from rbx1_nav.ros.node import exit_node
+from rbx1_nav.ros.runner import run_course_node
 
 NAME = 'nav_square'
 SIDES = 4
@@ -40,4 +41,5 @@ def build_course(values):
 
 
 if __name__ == '__main__':
-    exit_node(NAME, run_course_node(NAME, PARAMS, build_course, rate=20.0))
+    exit_node(NAME, run_course_node(NAME, PARAMS, build_course, rate=20.0,
+                                    doc=__doc__))

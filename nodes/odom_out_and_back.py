@@ -22,7 +22,8 @@ import math
 
 from rbx1_nav.motion import PRECISE_PARAMS, legs_params
 from rbx1_nav.out_and_back import CourseConfig, OutAndBack
-from rbx1_nav.ros.runner import exit_node, run_course_node
+from rbx1_nav.ros.node import exit_node
+from rbx1_nav.ros.runner import run_course_node
 
 NAME = 'odom_out_and_back'
 PARAMS = legs_params(linear_speed=0.15, goal_distance=1.0, angular_speed=0.5,
@@ -37,4 +38,5 @@ def build_course(values):
 
 
 if __name__ == '__main__':
-    exit_node(NAME, run_course_node(NAME, PARAMS, build_course, rate=20.0))
+    exit_node(NAME, run_course_node(NAME, PARAMS, build_course, rate=20.0,
+                                   doc=__doc__))

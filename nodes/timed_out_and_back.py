@@ -22,7 +22,8 @@ sent a stop.
 import math
 
 from rbx1_nav.motion import Course, legs_course, legs_params
-from rbx1_nav.ros.runner import exit_node, run_course_node
+from rbx1_nav.ros.node import exit_node
+from rbx1_nav.ros.runner import run_course_node
 
 NAME = 'timed_out_and_back'
 PARAMS = legs_params(linear_speed=0.2, goal_distance=1.0, angular_speed=1.0,
@@ -38,4 +39,4 @@ def build_course(values):
 
 if __name__ == '__main__':
     exit_node(NAME, run_course_node(NAME, PARAMS, build_course, rate=50.0,
-                                    require_tf=False))
+                                    require_tf=False, doc=__doc__))

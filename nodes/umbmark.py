@@ -40,21 +40,21 @@ from rbx1_nav import params, umbmark
 from rbx1_nav.motion import (MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED,
                              PRECISE_PARAMS, approach)
 from rbx1_nav.params import param
+from rbx1_nav.ros.node import exit_node, start_node
 from rbx1_nav.ros.runner import (CourseAborted, MotionRunner, common_params,
-                                 exit_node, guarded, start_node)
+                                 guarded)
 from rbx1_nav.ros.truth import TRUTH_PARAM, GroundTruth
 
 NAME = 'umbmark'
-_POSITIVE = dict(minimum=0.0, allow_zero=False)
 PARAMS = (
     param('runs', 5, params.integer, '', 'squares in each direction',
           minimum=1, maximum=50),
     param('side', 1.0, params.number, 'm', 'side of the square',
           minimum=0.1, maximum=20.0),
     param('linear_speed', 0.2, params.number, 'm/s', 'forward speed',
-          maximum=MAX_LINEAR_SPEED, **_POSITIVE),
+          maximum=MAX_LINEAR_SPEED, **params.POSITIVE),
     param('angular_speed', 0.5, params.number, 'rad/s', 'turn rate',
-          maximum=MAX_ANGULAR_SPEED, **_POSITIVE),
+          maximum=MAX_ANGULAR_SPEED, **params.POSITIVE),
     param('pause', 1.0, params.number, 's', 'stop after each side and turn',
           minimum=0.0, maximum=60.0),
     param('run_pause', 5.0, params.number, 's',
@@ -192,7 +192,7 @@ def load(path):
 
 
 def main():
-    values = start_node(NAME, PARAMS + common_params(rate=20.0))
+    values = start_node(NAME, PARAMS + common_params(rate=20.0), __doc__)
     if values is None:
         return 1
     if values['measurements']:  # after the fact: analyse only

@@ -118,4 +118,7 @@ class StraightLine(unittest.TestCase):
 
 
 if __name__ == '__main__':
-    rostest.rosrun(PKG, 'fake_turtlebot_straight', StraightLine, sys.argv)
+    # One results file per .test (rostest names the test node after it).
+    name = next((arg.split(':=', 1)[1] for arg in sys.argv
+                 if arg.startswith('__name:=')), 'fake_turtlebot_straight')
+    rostest.rosrun(PKG, name, StraightLine, sys.argv)

@@ -109,14 +109,26 @@ def correction(kind, odometry, measured):
     return ratio
 
 
-def report(kind, odometry, measured, source):
-    """The lines that tell the user what to set, arithmetic shown."""
-    factor = correction(kind, odometry, measured)
-    return [
-        '%s test: odometry %.4f %s, measured %.4f %s (%s)' % (
-            kind.name, odometry, kind.unit, measured, kind.unit, source),
-        '%s = measured / odometry = %.4f / %.4f = %.4f' % (
-            kind.correction, measured, odometry, factor),
-        "Set the driver's %s to its current value x %.4f (a driver at 1.0: "
-        "%.4f); rerun the test to check." % (kind.correction, factor, factor),
-    ]
+def report(kind, odometry, measured, source, node_factor=1.0):
+    """The lines that tell the user what to set, arithmetic shown.
+
+    ``odometry`` is what the driver reported; ``node_factor`` the node's own
+    correction field, which the test applied on top (a candidate factor
+    being tried). The result is relative to the driver's current setting.
+    """
+    seen = odometry * node_factor
+    factor = correction(kind, seen, measured)
+    lines = ['%s test: odometry %.4f %s%s, measured %.4f %s (%s)' % (
+        kind.name, odometry, kind.unit,
+        '' if node_factor == 1.0 else ' x this node\'s %s %.4f = %.4f %s' % (
+            kind.correction, node_factor, seen, kind.unit),
+        measured, kind.unit, source)]
+    lines.append('%s = measured / odometry = %.4f / %.4f = %.4f' % (
+        kind.correction, measured, seen, factor))
+    total = factor * node_factor
+    lines.append("Set the driver's %s to its current value x %.4f%s (a driver "
+                 "at 1.0: %.4f); rerun the test to check." % (
+                     kind.correction, total, '' if node_factor == 1.0 else
+                     " (this node's %.4f x %.4f)" % (node_factor, factor),
+                     total))
+    return lines

@@ -51,6 +51,9 @@ DRIVE, TURN, PAUSE, DONE = 'drive', 'turn', 'pause', 'done'
 # typo (or a unit mix-up) and the robot must not move.
 MAX_LINEAR_SPEED = 2.0           # m/s
 MAX_ANGULAR_SPEED = 2 * math.pi  # rad/s
+MAX_DISTANCE = 100.0             # m, one drive
+MAX_ANGLE = 4 * math.pi          # rad, one turn (two full turns)
+MAX_TOLERANCE = math.pi / 2      # rad
 
 
 Approach = namedtuple('Approach', 'gain heading_gain min_linear_speed '
@@ -63,22 +66,20 @@ heading_gain (1/s) turns a drive's heading error into a turn rate.
 """
 
 
-_POSITIVE = dict(minimum=0.0, allow_zero=False)
-
 # Precise mode's settings, shared by every closed-loop course node.
 PRECISE_PARAMS = (
     param('precise', False, params.flag,
           doc='slow down near each goal, hold heading, ignore the tolerance'),
     param('precise_gain', 1.0, params.number, '/s',
-          'approach speed = gain x what remains', **_POSITIVE),
+          'approach speed = gain x what remains', **params.POSITIVE),
     param('precise_heading_gain', 4.0, params.number, '/s',
-          'turn rate per radian of heading error while driving', **_POSITIVE),
+          'turn rate per radian of heading error while driving', **params.POSITIVE),
     param('precise_min_linear_speed', 0.005, params.number, 'm/s',
           'creep speed near a distance goal', maximum=MAX_LINEAR_SPEED,
-          **_POSITIVE),
+          **params.POSITIVE),
     param('precise_min_angular_speed', 0.01, params.number, 'rad/s',
           'creep speed near an angle goal', maximum=MAX_ANGULAR_SPEED,
-          **_POSITIVE),
+          **params.POSITIVE),
 )
 
 
@@ -100,20 +101,27 @@ def legs_params(linear_speed, goal_distance, angular_speed, goal_angle,
     ``tolerance_unit`` ('rad' or 'deg'; the book's nodes use degrees for
     the tolerance); a tolerance or leg count of None is not a parameter.
     """
+    def in_unit(angle, unit):
+        return math.degrees(angle) if unit == 'deg' else angle
+
+    max_angle = in_unit(MAX_ANGLE, angle_unit)
     specs = [
         param('linear_speed', linear_speed, params.number, 'm/s',
-              'forward speed', maximum=MAX_LINEAR_SPEED, **_POSITIVE),
+              'forward speed', maximum=MAX_LINEAR_SPEED, **params.POSITIVE),
         param('goal_distance', goal_distance, params.number, 'm',
-              'length of each leg (negative: backwards)'),
+              'length of each leg (negative: backwards)',
+              minimum=-MAX_DISTANCE, maximum=MAX_DISTANCE),
         param('angular_speed', angular_speed, params.number, 'rad/s',
-              'turn rate', maximum=MAX_ANGULAR_SPEED, **_POSITIVE),
+              'turn rate', maximum=MAX_ANGULAR_SPEED, **params.POSITIVE),
         param('goal_angle', goal_angle, params.number, angle_unit,
-              'turn after each leg (negative: clockwise)'),
+              'turn after each leg (negative: clockwise)',
+              minimum=-max_angle, maximum=max_angle),
     ]
     if angular_tolerance is not None:
         specs.append(param('angular_tolerance', angular_tolerance,
                            params.number, tolerance_unit,
-                           'a turn stops this much short', minimum=0.0))
+                           'a turn stops this much short', minimum=0.0,
+                           maximum=in_unit(MAX_TOLERANCE, tolerance_unit)))
     if legs is not None:
         specs.append(param('legs', legs, params.integer, '', 'number of legs',
                            minimum=1, maximum=1000))
@@ -187,6 +195,9 @@ class _Drive(Step):
     def command(speed):
         return Command(speed, 0.0)
 
+    def amount(self):
+        return '%.3f m' % self.goal
+
     def ideal_end(self, pose):
         return Pose2D(pose.x + self.goal * math.cos(pose.yaw),
                       pose.y + self.goal * math.sin(pose.yaw), pose.yaw)
@@ -204,6 +215,9 @@ class _Turn(Step):
     @staticmethod
     def command(speed):
         return Command(0.0, speed)
+
+    def amount(self):
+        return '%.1f deg' % math.degrees(self.goal)
 
     def ideal_end(self, pose):
         return Pose2D(pose.x, pose.y, normalize_angle(pose.yaw + self.goal))
@@ -289,7 +303,7 @@ class _Timed(object):
             self.first = now
         remaining = abs(self.goal) / self.speed - (now - self.first)
         if remaining <= 1e-9:
-            self._event(course, '%s for %.2f s' % (self.verb, now - self.first),
+            self._event(course, '%s %s open loop' % (self.verb, self.amount()),
                         now)
             return None
         fraction = min(1.0, remaining / self.period)
@@ -413,6 +427,10 @@ def legs_course(distance, angle, legs, linear_speed, angular_speed,
     time instead. ``tolerance`` (rad) applies to closed-loop turns, as in
     the book; ``approach`` (an :class:`Approach`) selects precise mode.
     """
+    if angle and tolerance >= abs(angle) and approach is None and period is None:
+        raise ValueError('angular_tolerance (%g deg) must be smaller than the '
+                         'turn (%g deg), or every turn ends before it starts'
+                         % (math.degrees(tolerance), math.degrees(abs(angle))))
     steps = []
     for leg in range(1, int(legs) + 1):
         label = 'leg %d/%d' % (leg, legs)

@@ -11,6 +11,7 @@ in a launch file arrive as booleans, but a quoted ``'false'`` arrives as a
 string. So numbers are accepted as numeric strings too, and flags as the
 strings 'true' / 'false'; bools are never numbers and numbers never flags.
 """
+import difflib
 import math
 import numbers
 from collections import namedtuple
@@ -18,7 +19,7 @@ from collections import namedtuple
 from rbx1_nav.transform_utils import strip_leading_slash
 
 __all__ = ['number', 'integer', 'flag', 'frame', 'text', 'number_list', 'pairs',
-           'Param', 'param', 'read_all', 'describe']
+           'POSITIVE', 'Param', 'param', 'read_all', 'describe', 'unknown', 'usage']
 
 
 def _as_float(name, value):
@@ -154,6 +155,10 @@ def pairs(name, value):
     return result
 
 
+# Options for a number that must be greater than zero: number(..., **POSITIVE).
+POSITIVE = dict(minimum=0.0, allow_zero=False)
+
+
 Param = namedtuple('Param', 'name default check options unit doc')
 Param.__doc__ = """One private parameter of a node, declared once.
 
@@ -197,3 +202,22 @@ def describe(specs, values):
         return repr(value) if value == '' else str(value)
     return ', '.join(('%s %s %s' % (s.name, shown(values[s.name]), s.unit)).strip()
                      for s in specs)
+
+
+def unknown(given, specs):
+    """[(name, nearest known name or None)] for names in ``given`` that no
+    spec declares: typos such as ``_goal_distnace:=2``."""
+    known = [spec.name for spec in specs]
+    return [(name, (difflib.get_close_matches(name, known, n=1) or [None])[0])
+            for name in sorted(given) if name not in known]
+
+
+def usage(doc, specs):
+    """``--help`` text: the node's docstring and a table of ``specs``."""
+    lines = [(doc or '').strip(), '',
+             'Private parameters (rosrun: _name:=value; launch: <param>):']
+    width = max([len(spec.name) for spec in specs] + [4])
+    for spec in specs:
+        default = describe([spec], {spec.name: spec.default})[len(spec.name) + 1:]
+        lines.append('  ~%-*s  %-18s %s' % (width, spec.name, default, spec.doc))
+    return '\n'.join(lines)

@@ -52,24 +52,23 @@ SPEED_KEYS = {
 }
 QUIT_KEYS = ('Q', '\x03')  # Q, or Ctrl-C (a key, not a signal: ISIG is off)
 
-_POSITIVE = dict(minimum=0.0, allow_zero=False)
 
 # The node's private parameters. The package-wide speed limits of
 # rbx1_nav.motion bound the maximums; each speed must be within its maximum.
 PARAMS = (
     param('linear_speed', 0.2, params.number, 'm/s',
-          'forward speed at start', **_POSITIVE),
+          'forward speed at start', **params.POSITIVE),
     param('angular_speed', 1.0, params.number, 'rad/s',
-          'turn rate at start', **_POSITIVE),
+          'turn rate at start', **params.POSITIVE),
     param('max_linear_speed', 1.0, params.number, 'm/s',
           'the keys never raise the forward speed above this',
-          maximum=MAX_LINEAR_SPEED, **_POSITIVE),
+          maximum=MAX_LINEAR_SPEED, **params.POSITIVE),
     param('max_angular_speed', 3.0, params.number, 'rad/s',
           'the keys never raise the turn rate above this',
-          maximum=MAX_ANGULAR_SPEED, **_POSITIVE),
+          maximum=MAX_ANGULAR_SPEED, **params.POSITIVE),
     param('key_timeout', 0.8, params.number, 's',
           'stop when no motion key came for this long',
-          maximum=10.0, **_POSITIVE),
+          maximum=10.0, **params.POSITIVE),
     param('rate', 10.0, params.number, 'Hz',
           'cmd_vel repeat rate while a motion key is held',
           minimum=1.0, maximum=100.0),

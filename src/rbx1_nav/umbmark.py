@@ -42,7 +42,6 @@ from collections import namedtuple
 import numpy as np
 
 from rbx1_nav.motion import Course, Drive, Pause, Turn
-from rbx1_nav.transform_utils import Pose2D
 
 __all__ = ['relative', 'square_course', 'check_errors', 'analyse', 'Result',
            'corrections', 'report', 'plot']

@@ -1,5 +1,17 @@
-"""Make the package's modules importable from the checkout, built or not."""
+"""Make the package's modules importable from the checkout, built or not,
+and keep test runs from writing into the source tree (no .hypothesis/
+example database; the Makefile and CMakeLists.txt also pass pytest
+-p no:cacheprovider, so no .pytest_cache/)."""
 import os
 import sys
+import tempfile
+
+from hypothesis import configuration, settings
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', '..', 'src'))
+
+settings.register_profile('rbx1_nav', database=None)
+settings.load_profile('rbx1_nav')
+# Hypothesis also caches Unicode tables in its storage directory.
+configuration.set_hypothesis_home_dir(
+    os.path.join(tempfile.gettempdir(), 'rbx1_nav-hypothesis'))

@@ -74,6 +74,15 @@ def test_the_node_side_correction_scales_the_goal():
     assert robot.x == pytest.approx(1.0, abs=0.15 * 0.05)
 
 
+def test_with_a_candidate_factor_in_the_node_the_report_gives_the_residual():
+    # Odometry over-reports rotation by 5 %; the node already applies 0.95.
+    lines = report(ANGULAR, 380.0, 361.0, 'ground truth', node_factor=0.95)
+    assert 'x this node\'s odom_angular_scale_correction 0.9500 = 361.0000 deg' \
+        in lines[0]
+    assert lines[1].endswith('= 361.0000 / 361.0000 = 1.0000')
+    assert "current value x 0.9500 (this node's 0.9500 x 1.0000)" in lines[2]
+
+
 def test_pose_track_counts_a_full_turn_as_360_degrees():
     track = PoseTrack()
     for k in range(37):

@@ -4,6 +4,7 @@ The out-and-back rules are covered in test_out_and_back.py; here the open-
 loop steps, the square, and how steps chain.
 """
 import math
+import re
 
 import pytest
 from hypothesis import given, settings, strategies as st
@@ -47,7 +48,7 @@ def test_timed_moves_last_distance_over_speed_and_ignore_odometry():
     assert len(drive) == math.ceil(1.0 / 0.2 / DT - 1e-9)
     assert sum(turn) * DT == pytest.approx(-math.pi / 2, abs=1e-9)
     assert all(-0.5 <= w < 0 for w in turn)
-    assert 'drove for 5.00 s' in course.pop_events()[0]
+    assert course.pop_events()[0] == 'drove 1.000 m open loop in 5.0 s'
 
 
 def test_square_precise_ends_at_its_start():
@@ -138,3 +139,26 @@ def test_legs_params_defaults_units_and_checks():
     assert len(problems) == 2
     assert problems[0].startswith('~linear_speed must be > 0 and <= 2')
     assert values['linear_speed'] == 0.2  # the default stands in
+
+
+def test_a_tolerance_as_large_as_the_turn_is_refused():
+    with pytest.raises(ValueError, match=r'angular_tolerance \(120 deg\) must '
+                                         r'be smaller than the turn \(90 deg\)'):
+        legs_course(0.2, math.pi / 2, 4, 0.2, 0.7, math.radians(120.0), 0.0)
+    # No turn, or precise mode (which ignores the tolerance): nothing to refuse.
+    legs_course(0.2, 0.0, 1, 0.2, 0.7, math.radians(120.0))
+    legs_course(0.2, math.pi / 2, 1, 0.2, 0.7, math.radians(120.0),
+                approach=PRECISE)
+
+
+@pytest.mark.parametrize('name, value, words', [
+    ('goal_distance', 1e6, r'~goal_distance must be >= -100 and <= 100'),
+    ('goal_angle', 36000.0, r'~goal_angle must be >= -720 and <= 720'),
+    ('angular_tolerance', 120.0, r'~angular_tolerance must be >= 0 and <= 90'),
+])
+def test_distances_and_angles_have_upper_bounds(name, value, words):
+    specs = legs_params(0.2, 1.0, 0.7, 90.0, angle_unit='deg',
+                        angular_tolerance=2.0)
+    _, problems = params.read_all(
+        specs, lambda n, default: value if n == name else default, '~')
+    assert len(problems) == 1 and re.match(words, problems[0]), problems

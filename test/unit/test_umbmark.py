@@ -2,11 +2,10 @@
 driven round the squares on its own odometry, must give them back."""
 import math
 
-import numpy as np
 import pytest
 
 from ideal_robot import run
-from rbx1_nav.motion import STOP, Approach
+from rbx1_nav.motion import Approach
 from rbx1_nav.umbmark import (analyse, check_errors, corrections, plot,
                               relative, report, square_course)
 from rbx1_nav.transform_utils import Pose2D, normalize_angle

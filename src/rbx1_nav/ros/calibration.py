@@ -21,8 +21,8 @@ from dynamic_reconfigure.server import Server
 
 from rbx1_nav import calibration, params
 from rbx1_nav.params import param
-from rbx1_nav.ros.runner import (MotionRunner, common_params, exit_node,
-                                 guarded, start_node)
+from rbx1_nav.ros.node import exit_node, start_node
+from rbx1_nav.ros.runner import MotionRunner, common_params, guarded
 from rbx1_nav.ros.truth import TRUTH_PARAM, GroundTruth
 
 NODE_PARAMS = (
@@ -32,27 +32,24 @@ NODE_PARAMS = (
 )
 
 
-def config_problems(config_type):
-    """Reconfigure fields given on the parameter server that are unusable.
+def config_params(config_type):
+    """The reconfigure fields of ``config_type`` as Params, with its bounds.
 
-    dynamic_reconfigure would clamp an out-of-range number silently and
-    choke on a string; this names them instead.
+    So they are checked at start-up like every other parameter:
+    dynamic_reconfigure itself would clamp an out-of-range number silently
+    and choke on a string.
     """
-    problems = []
+    specs = []
     for field in config_type.config_description['parameters']:
-        name = '~' + field['name']
-        if not rospy.has_param(name):
-            continue
-        value = rospy.get_param(name)
-        try:
-            if field['type'] == 'bool':
-                params.flag(name, value)
-            else:
-                params.number(name, value, minimum=config_type.min[field['name']],
-                              maximum=config_type.max[field['name']])
-        except ValueError as err:
-            problems.append(str(err))
-    return problems
+        name = field['name']
+        if field['type'] == 'bool':
+            specs.append(param(name, field['default'], params.flag, '',
+                               field['description']))
+        else:
+            specs.append(param(name, field['default'], params.number, '',
+                               field['description'], minimum=field['min'],
+                               maximum=field['max']))
+    return tuple(specs)
 
 
 class CalibrationNode(object):
@@ -66,6 +63,7 @@ class CalibrationNode(object):
         self.lock = threading.Lock()
         self.config = None
         self.odometry = None  # the last test's odometry value, kind's unit
+        self.node_factor = 1.0  # and the node's correction field it ran with
         self.measured = 0.0  # a new measured_* value to report, or 0
         self.measured_field = 0.0
         topic = settings['ground_truth_topic']
@@ -114,6 +112,7 @@ class CalibrationNode(object):
         final = self.runner.run(course)
         self.odometry = calibration.measure(kind, course.start_pose, final,
                                             course.yaw_total)
+        self.node_factor = config[kind.correction]
         rospy.loginfo('%s: odometry says %.4f %s (tf %s -> %s, robot settled)',
                       self.name, self.odometry, kind.unit,
                       self.runner.odom_frame, self.runner.followed)
@@ -137,7 +136,8 @@ class CalibrationNode(object):
                           measured)
             return
         try:
-            lines = calibration.report(self.kind, self.odometry, measured, source)
+            lines = calibration.report(self.kind, self.odometry, measured,
+                                       source, self.node_factor)
         except ValueError as err:
             rospy.logwarn('%s: %s; no correction computed', self.name, err)
             return
@@ -145,21 +145,18 @@ class CalibrationNode(object):
             rospy.loginfo('%s: %s', self.name, line)
 
 
-def main(kind, config_type):
-    """main() of calibrate_<kind>.py; returns the exit status."""
+def main(kind, config_type, doc):
+    """main() of calibrate_<kind>.py (``doc``: its docstring, for --help);
+    returns the exit status."""
     name = 'calibrate_' + kind.name
-    values = start_node(name, NODE_PARAMS + common_params(rate=20.0))
+    values = start_node(name, config_params(config_type) + NODE_PARAMS
+                        + common_params(rate=20.0), doc)
     if values is None:
-        return 1
-    problems = config_problems(config_type)
-    if problems:
-        rospy.logerr('%s: bad parameters, not moving: %s', name,
-                     '; '.join(problems))
         return 1
     node = CalibrationNode(kind, config_type, values)
     return guarded(name, node.runner, node.spin)
 
 
-def run(kind, config_type):
+def run(kind, config_type, doc):
     """Run the node as a script: main(), then exit with its status."""
-    exit_node('calibrate_' + kind.name, main(kind, config_type))
+    exit_node('calibrate_' + kind.name, main(kind, config_type, doc))

@@ -14,10 +14,10 @@ when ``/clock`` stops under simulated time. Exit status 0 only after a
 completed course.
 """
 import math
-import signal
 import threading
 import time
 
+import rosgraph
 import rospy
 import tf2_ros
 from geometry_msgs.msg import Twist
@@ -26,11 +26,11 @@ from rosgraph_msgs.msg import Clock
 from rbx1_nav import params
 from rbx1_nav.motion import pose_error
 from rbx1_nav.params import param
+from rbx1_nav.ros.node import start_node
 from rbx1_nav.transform_utils import Pose2D, normalize_angle, quat_to_angle
 
 BASE_FRAME_CANDIDATES = ('base_footprint', 'base_link')
 
-_POSITIVE = dict(minimum=0.0, allow_zero=False)
 
 
 def common_params(rate):
@@ -43,9 +43,10 @@ def common_params(rate):
               "robot frame; '' tries base_footprint, then base_link",
               allow_empty=True),
         param('tf_wait', 5.0, params.number, 's',
-              'wait this long for the first transform', **_POSITIVE),
+              'wait this long for /clock, the first transform and a cmd_vel '
+              'subscriber', **params.POSITIVE),
         param('tf_timeout', 1.0, params.number, 's',
-              'abort when the transform is older than this', **_POSITIVE),
+              'abort when the transform is older than this', **params.POSITIVE),
         param('start_delay', 0.0, params.number, 's',
               'pause before moving (e.g. for a bag recorder)', minimum=0.0),
     )
@@ -53,18 +54,6 @@ def common_params(rate):
 
 class CourseAborted(Exception):
     """The course cannot go on; the message says why, for the log."""
-
-
-def read_params(specs):
-    """Values of the node's private parameters ``specs``.
-
-    Raises ValueError naming every unusable value.
-    """
-    values, problems = params.read_all(
-        specs, lambda name, default: rospy.get_param('~' + name, default), '~')
-    if problems:
-        raise ValueError('; '.join(problems))
-    return values
 
 
 class MotionRunner(object):
@@ -213,12 +202,27 @@ class MotionRunner(object):
             if rospy.is_shutdown():
                 raise rospy.ROSInterruptException('shutdown while waiting')
             if rospy.Time.now() >= deadline:
-                raise CourseAborted(
-                    'nothing subscribes to %s after %.1f s: is the robot '
-                    'driver listening on another topic? Remap it, e.g. '
-                    'cmd_vel:=mobile_base/commands/velocity for a TurtleBot 2'
-                    % (self.cmd_vel.resolved_name, self.settings['tf_wait']))
+                raise CourseAborted('nothing subscribes to %s after %.1f s: %s'
+                                    % (self.cmd_vel.resolved_name,
+                                       self.settings['tf_wait'],
+                                       self._listener_hint()))
             poll.sleep()
+
+    def _listener_hint(self):
+        """Where the velocity commands could go instead, from the master."""
+        try:
+            master = rosgraph.Master(rospy.get_name())
+            subscribers = master.getSystemState()[1]
+            types = dict(master.getTopicTypes())
+        except Exception:  # the master is gone too: nothing to suggest
+            return 'is the robot driver running?'
+        topics = sorted(topic for topic, nodes in subscribers
+                        if types.get(topic) == 'geometry_msgs/Twist')
+        if not topics:
+            return ('no node takes geometry_msgs/Twist commands: is the robot '
+                    'driver running?')
+        return ('these topics take Twist commands: %s. Remap to the driver\'s, '
+                'e.g. cmd_vel:=%s' % (', '.join(topics), topics[0]))
 
     def lookup(self):
         """(Pose2D, stamp) of the latest odom -> base transform, or None."""
@@ -317,42 +321,17 @@ def guarded(name, runner, work):
     return 1
 
 
-def _shutdown_on_signal(signum, frame):
-    """SIGINT/SIGTERM: shut rospy down from another thread.
-
-    rospy's own handler calls signal_shutdown in the main thread, inside
-    whatever that thread was doing; during a call to the master (a
-    set_param, say) it then waits for the master connection's lock that the
-    interrupted call holds, and the node hangs. From a thread of its own,
-    the shutdown waits for the call to finish instead.
-    """
-    threading.Thread(target=rospy.signal_shutdown, daemon=True,
-                     args=('signal %d' % signum,)).start()
-
-
-def start_node(name, specs):
-    """init_node, then read and log ``specs``; None (logged) if they are bad."""
-    rospy.init_node(name, disable_signals=True)
-    for signum in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(signum, _shutdown_on_signal)
-    try:
-        values = read_params(specs)
-    except ValueError as err:
-        rospy.logerr('%s: bad parameters, not moving: %s', name, err)
-        return None
-    rospy.loginfo('%s: %s', name, params.describe(specs, values))
-    return values
-
-
-def run_course_node(name, specs, build_course, rate, require_tf=True):
+def run_course_node(name, specs, build_course, rate, require_tf=True,
+                    doc=None):
     """The whole main() of a course node; returns its exit status.
 
     ``specs`` are the node's own parameters (the common ones, with ``rate``
     as default control rate, are added); ``build_course(values)`` returns
-    the :class:`rbx1_nav.motion.Course` to drive.
+    the :class:`rbx1_nav.motion.Course` to drive; ``doc`` (the node's
+    docstring) heads its ``--help``.
     """
     all_specs = tuple(specs) + common_params(rate)
-    values = start_node(name, all_specs)
+    values = start_node(name, all_specs, doc)
     if values is None:
         return 1
     try:
@@ -366,9 +345,3 @@ def run_course_node(name, specs, build_course, rate, require_tf=True):
         runner.summarize(course, runner.run(course))
 
     return guarded(name, runner, work)
-
-
-def exit_node(name, status):
-    """Shut rospy down and exit with ``status`` (the last line of a node)."""
-    rospy.signal_shutdown('%s finished' % name)
-    raise SystemExit(status)

@@ -1,0 +1,102 @@
+"""Start-up and shutdown shared by every node of the package.
+
+:func:`start_node` answers ``--help`` without a master, starts rospy with
+signal handling that cannot deadlock, reads and checks the node's declared
+private parameters (rbx1_nav.params.Param), warns about private parameters
+it does not know (naming the nearest known one), and logs the values it
+uses. :func:`exit_node` is a node's last line.
+"""
+import signal
+import sys
+import threading
+
+import rosgraph
+import rospy
+
+from rbx1_nav import params
+
+
+def _shutdown_on_signal(signum, frame):
+    """SIGINT/SIGTERM: shut rospy down from another thread.
+
+    rospy's own handler calls signal_shutdown in the main thread, inside
+    whatever that thread was doing; during a call to the master (a
+    set_param, say) it then waits for the master connection's lock that the
+    interrupted call holds, and the node hangs. From a thread of its own,
+    the shutdown waits for the call to finish instead.
+    """
+    threading.Thread(target=rospy.signal_shutdown, daemon=True,
+                     args=('signal %d' % signum,)).start()
+
+
+def exit_if_help(specs, doc):
+    """Print usage (``doc``, the node's docstring, and ``specs``) and exit 0
+    if the command line asks for help."""
+    if any(arg in ('-h', '--help') for arg in sys.argv[1:]):
+        print(params.usage(doc, specs))
+        raise SystemExit(0)
+
+
+def wait_for_master(name):
+    """Say so, once, while there is no master; Ctrl-C exits with status 1."""
+    if rosgraph.is_master_online():
+        return
+    sys.stderr.write('%s: waiting for the ROS master at %s: start roscore, or '
+                     'check ROS_MASTER_URI (Ctrl-C to give up)\n'
+                     % (name, rosgraph.get_master_uri()))
+    try:
+        while not rosgraph.is_master_online():
+            rospy.rostime.wallsleep(0.5)
+    except KeyboardInterrupt:
+        raise SystemExit(1)
+
+
+def read_params(specs):
+    """Values of the node's private parameters ``specs``.
+
+    Raises ValueError naming every unusable value.
+    """
+    values, problems = params.read_all(
+        specs, lambda name, default: rospy.get_param('~' + name, default), '~')
+    if problems:
+        raise ValueError('; '.join(problems))
+    return values
+
+
+def warn_unknown(name, specs):
+    """One warning per private parameter on the server that no spec declares."""
+    given = rospy.get_param('~', {})
+    for unknown, nearest in params.unknown(given if isinstance(given, dict)
+                                           else {}, specs):
+        rospy.logwarn('%s: unknown parameter ~%s is ignored%s', name, unknown,
+                      ' (did you mean ~%s?)' % nearest if nearest else '')
+
+
+def start_node(name, specs, doc):
+    """--help (``doc`` and ``specs``), init_node, then read and log ``specs``.
+
+    Returns the values, or None (logged, with how to clear a bad value) if
+    any is unusable.
+    """
+    exit_if_help(specs, doc)
+    wait_for_master(name)
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, _shutdown_on_signal)
+    rospy.init_node(name, disable_signals=True)
+    warn_unknown(name, specs)
+    try:
+        values = read_params(specs)
+    except ValueError as err:
+        rospy.logerr('%s: bad parameters, not moving: %s. A value given as '
+                     '_name:=value stays on the parameter server for later '
+                     'runs: clear it with rosparam delete %s/NAME', name, err,
+                     rospy.get_name())
+        return None
+    rospy.loginfo('%s: %s', name, params.describe(specs, values))
+    return values
+
+
+def exit_node(name, status):
+    """Shut rospy down and exit with ``status`` (the last line of a node)."""
+    rospy.signal_shutdown('%s finished' % name)
+    raise SystemExit(status)
