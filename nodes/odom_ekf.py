@@ -20,31 +20,27 @@ from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry
 
 from rbx1_nav.odom_ekf import PoseToOdometry
-from rbx1_nav.params import flag, frame, number
+from rbx1_nav.params import POSITIVE, flag, frame, number, param
+from rbx1_nav.ros.node import start_node
 
-
-def param(name, default, check, **options):
-    """Parameter ``name`` checked by a rbx1_nav.params function."""
-    return check(name, rospy.get_param(name, default), **options)
+PARAMS = (
+    param('frame_id', '', frame, '', "output frame; '' keeps the input's",
+          allow_empty=True),
+    param('child_frame_id', 'base_footprint', frame, '', "the robot's base frame"),
+    param('estimate_twist', True, flag, '',
+          'twist from successive poses, else zero and marked unknown'),
+    param('twist_variance', 0.01, number, '',
+          'variance given to an estimated twist', **POSITIVE),
+)
 
 
 class OdomEkfNode(object):
     """Wires ``input`` -> PoseToOdometry -> ``output``."""
 
-    def __init__(self):
-        self.converter = PoseToOdometry(
-            frame_id=param('~frame_id', '', frame, allow_empty=True),
-            child_frame_id=param('~child_frame_id', 'base_footprint', frame),
-            estimate_twist=param('~estimate_twist', True, flag),
-            twist_variance=param('~twist_variance', 0.01, number,
-                                 minimum=0.0, allow_zero=False))
-        rospy.loginfo('odom_ekf: frame_id=%r child_frame_id=%r '
-                      'estimate_twist=%s twist_variance=%g; %s -> %s',
-                      self.converter.frame_id or '(from input)',
-                      self.converter.child_frame_id,
-                      self.converter.estimate_twist,
-                      self.converter.twist_variance,
-                      rospy.resolve_name('input'), rospy.resolve_name('output'))
+    def __init__(self, values):
+        self.converter = PoseToOdometry(**values)
+        rospy.loginfo('odom_ekf: %s -> %s', rospy.resolve_name('input'),
+                      rospy.resolve_name('output'))
         self.pub = rospy.Publisher('output', Odometry, queue_size=10)
         # Subscribe last so no callback runs before the publisher exists.
         self.sub = rospy.Subscriber('input', PoseWithCovarianceStamped,
@@ -61,12 +57,10 @@ class OdomEkfNode(object):
 
 
 def main():
-    rospy.init_node('odom_ekf')
-    try:
-        OdomEkfNode()
-    except ValueError as err:
-        rospy.logfatal('odom_ekf: %s' % err)
+    values = start_node('odom_ekf', PARAMS, __doc__)
+    if values is None:
         raise SystemExit(1)
+    OdomEkfNode(values)
     rospy.spin()
 
 

@@ -14,30 +14,29 @@ import time
 import rospy
 from rosgraph_msgs.msg import Clock
 
-from rbx1_nav.params import number
+from rbx1_nav.params import number, param
+from rbx1_nav.ros.node import start_node
 from rbx1_nav.sim_clock import (MAX_SPEED, MAX_START, MAX_STEP, MIN_SPEED,
                                 MIN_STEP, ClockPacer)
 
-
-def param(name, default, **limits):
-    """Number parameter ``name`` within ``limits`` (ValueError names it)."""
-    return number(name, rospy.get_param(name, default), **limits)
+PARAMS = (
+    param('speed', 1.0, number, 'x real time', 'simulated seconds per wall '
+          'second (sim_clock.launch: sim_speed)', minimum=MIN_SPEED,
+          maximum=MAX_SPEED),
+    param('step', MAX_STEP, number, 's', 'simulated time per /clock message',
+          minimum=MIN_STEP, maximum=MAX_STEP),
+    param('start_time', 0.0, number, 's', 'simulated time at start',
+          minimum=0.0, maximum=MAX_START),
+)
 
 
 def main():
-    rospy.init_node('sim_clock')
-    try:
-        speed = param('~speed', 1.0, minimum=MIN_SPEED, maximum=MAX_SPEED)
-        step = param('~step', MAX_STEP, minimum=MIN_STEP, maximum=MAX_STEP)
-        start = param('~start_time', 0.0, minimum=0.0, maximum=MAX_START)
-        pacer = ClockPacer(speed, step, start)
-    except ValueError as err:
-        rospy.logfatal('sim_clock: %s', err)
+    values = start_node('sim_clock', PARAMS, __doc__)
+    if values is None:
         raise SystemExit(1)
+    pacer = ClockPacer(values['speed'], values['step'], values['start_time'])
     if not rospy.get_param('/use_sim_time', False):
         rospy.logwarn('sim_clock: /use_sim_time is not set; nodes will ignore /clock')
-    rospy.loginfo('sim_clock: speed=%g x real time, step=%g s, start_time=%g s',
-                  speed, step, start)
     pub = rospy.Publisher('/clock', Clock, queue_size=10)
     while not rospy.is_shutdown():
         sim_ns, wait = pacer.advance(time.monotonic())
