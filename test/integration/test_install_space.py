@@ -1,0 +1,97 @@
+"""The package as installed: ``make install`` of the workspace that runs the
+tests, then, in a clean environment with only the install space set up and
+the source tree on no path: the book's cfg modules import as the book's
+scripts do (``from rbx1_nav.cfg import CalibrateLinearConfig``, checked from
+the devel space too), the demo course completes, and a rostest passes.
+"""
+import os
+import socket
+import subprocess
+
+import pytest
+
+IMPORT = ('import rbx1_nav, rbx1_nav.ros.runner; '
+          'from rbx1_nav.cfg import CalibrateLinearConfig as L, '
+          'CalibrateAngularConfig as A; '
+          'print(rbx1_nav.__file__); print(sorted(L.defaults)); '
+          'print(sorted(A.defaults))')
+LINEAR_FIELDS = ['measured_distance', 'odom_linear_scale_correction', 'speed',
+                 'start_test', 'test_distance', 'tolerance']
+ANGULAR_FIELDS = ['measured_angle', 'odom_angular_scale_correction', 'speed',
+                  'start_test', 'test_angle', 'tolerance']
+SOURCE = os.path.dirname(os.path.dirname(os.path.dirname(
+    os.path.abspath(__file__))))
+
+
+def workspace():
+    """The catkin workspace whose devel space the tests run in."""
+    for prefix in os.environ.get('CMAKE_PREFIX_PATH', '').split(':'):
+        if prefix.endswith('/devel') and os.path.isdir(
+                os.path.join(prefix, '..', 'build')):
+            return os.path.dirname(prefix)
+    pytest.skip('not run from a sourced catkin devel space')
+
+
+def run_in(setup, command, timeout=120):
+    """Run ``command`` (bash) with only ``setup`` sourced, from /tmp."""
+    return subprocess.run(
+        ['env', '-i', 'HOME=' + os.environ.get('HOME', '/root'),
+         'PATH=/usr/bin:/bin', 'bash', '-c',
+         'source %s && cd /tmp && %s' % (setup, command)],
+        stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+        universal_newlines=True, timeout=timeout)
+
+
+def check_imports(setup, space):
+    proc = run_in(setup, 'python3 -c "%s"' % IMPORT)
+    assert proc.returncode == 0, proc.stdout
+    module, linear, angular = proc.stdout.splitlines()[-3:]
+    assert module.startswith(space), module
+    assert linear == str(LINEAR_FIELDS)
+    assert angular == str(ANGULAR_FIELDS)
+
+
+@pytest.fixture(scope='module')
+def install_setup():
+    """``make install`` the workspace; the install space's setup.bash."""
+    ws = workspace()
+    build = subprocess.run(['flock', os.path.join(ws, '.build.lock'),
+                            'make', '-C', os.path.join(ws, 'build'), 'install'],
+                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                           universal_newlines=True, timeout=300)
+    assert build.returncode == 0, build.stdout[-3000:]
+    return os.path.join(ws, 'install', 'setup.bash')
+
+
+def test_cfg_modules_import_from_the_devel_space():
+    ws = workspace()
+    # In devel, rbx1_nav is catkin's relay package; it finds src/ and cfg/.
+    check_imports(os.path.join(ws, 'devel', 'setup.bash'),
+                  os.path.join(ws, 'devel'))
+
+
+def test_cfg_modules_import_from_the_install_space(install_setup):
+    check_imports(install_setup, os.path.dirname(install_setup))
+
+
+def test_the_source_tree_is_on_no_path(install_setup):
+    proc = run_in(install_setup, 'rospack find rbx1_nav; env | grep -v ^OLDPWD=')
+    assert proc.returncode == 0, proc.stdout
+    assert proc.stdout.splitlines()[0].startswith(os.path.dirname(install_setup))
+    for source in (SOURCE, os.path.join(workspace(), 'src')):
+        assert source not in proc.stdout
+
+
+def test_demo_course_completes_from_the_install_space(install_setup):
+    with socket.socket() as s:  # a free port for this launch's own master
+        s.bind(('localhost', 0))
+        port = s.getsockname()[1]
+    proc = run_in(install_setup, 'export ROS_MASTER_URI=http://localhost:%d; '
+                  'roslaunch -p %d rbx1_nav odom_out_and_back_sim.launch '
+                  'sim_speed:=10 precise:=true' % (port, port))
+    assert 'Course complete' in proc.stdout, proc.stdout[-3000:]
+
+
+def test_a_rostest_passes_from_the_install_space(install_setup):
+    proc = run_in(install_setup, 'rostest rbx1_nav out_and_back_no_tf.test')
+    assert proc.returncode == 0, proc.stdout[-3000:]
