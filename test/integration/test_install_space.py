@@ -53,14 +53,19 @@ def check_imports(setup, space):
 
 @pytest.fixture(scope='module')
 def install_setup():
-    """``make install`` the workspace; the install space's setup.bash."""
+    """``make install`` the workspace; the install space's local_setup.bash.
+
+    Not setup.bash: that one chains the workspaces the build saw (its devel
+    space, and through it the source tree); local_setup.bash sets up the
+    install space alone, over the system's ROS.
+    """
     ws = workspace()
     build = subprocess.run(['flock', os.path.join(ws, '.build.lock'),
                             'make', '-C', os.path.join(ws, 'build'), 'install'],
                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                            universal_newlines=True, timeout=300)
     assert build.returncode == 0, build.stdout[-3000:]
-    return os.path.join(ws, 'install', 'setup.bash')
+    return os.path.join(ws, 'install', 'local_setup.bash')
 
 
 def test_cfg_modules_import_from_the_devel_space():
