@@ -45,8 +45,11 @@ def main():
         try:
             pub.publish(Clock(clock=rospy.Time(*divmod(sim_ns, 10 ** 9))))
         except rospy.ROSException:
-            if not rospy.is_shutdown():  # publishing fails only while shutting down
+            # Publishing fails only while shutting down, which a signal
+            # starts in another thread (rbx1_nav.ros.node).
+            if not rospy.core.is_shutdown_requested():
                 raise
+            break
 
 
 if __name__ == '__main__':

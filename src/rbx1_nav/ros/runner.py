@@ -82,8 +82,13 @@ class MotionRunner(object):
         self._clock_ready = False
 
     def stop(self):
-        """Command zero velocity."""
-        self.cmd_vel.publish(Twist())
+        """Command zero velocity (a no-op once rospy has closed its topics:
+        the shutdown hook :meth:`halt` has sent the stop by then)."""
+        try:
+            self.cmd_vel.publish(Twist())
+        except rospy.ROSException:
+            if not rospy.core.is_shutdown_requested():
+                raise
 
     def halt(self):
         """Stop for good: the node is shutting down (from any thread)."""
