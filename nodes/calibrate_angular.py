@@ -18,7 +18,9 @@ runner's ~odom_frame, ~base_frame, ~tf_wait, ~tf_timeout, ~start_delay.
 """
 from rbx1_nav.calibration import ANGULAR
 from rbx1_nav.cfg import CalibrateAngularConfig
-from rbx1_nav.ros.calibration import run
+from rbx1_nav.ros.calibration import node_params, run
+
+PARAMS = node_params(CalibrateAngularConfig)  # for the README check; run() reads them
 
 if __name__ == '__main__':
     run(ANGULAR, CalibrateAngularConfig, __doc__)

@@ -17,7 +17,9 @@ runner's ~odom_frame, ~base_frame, ~tf_wait, ~tf_timeout, ~start_delay.
 """
 from rbx1_nav.calibration import LINEAR
 from rbx1_nav.cfg import CalibrateLinearConfig
-from rbx1_nav.ros.calibration import run
+from rbx1_nav.ros.calibration import node_params, run
+
+PARAMS = node_params(CalibrateLinearConfig)  # for the README check; run() reads them
 
 if __name__ == '__main__':
     run(LINEAR, CalibrateLinearConfig, __doc__)

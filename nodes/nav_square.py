@@ -23,13 +23,13 @@ import math
 from rbx1_nav.motion import (PRECISE_PARAMS, Course, approach, legs_course,
                              legs_params)
 from rbx1_nav.ros.node import exit_node
-from rbx1_nav.ros.runner import run_course_node
+from rbx1_nav.ros.runner import common_params, run_course_node
 
 NAME = 'nav_square'
 SIDES = 4
 PARAMS = legs_params(linear_speed=0.2, goal_distance=1.0, angular_speed=0.7,
                      goal_angle=90.0, angle_unit='deg', angular_tolerance=2.0,
-                     pause=1.0) + PRECISE_PARAMS
+                     pause=1.0) + PRECISE_PARAMS + common_params(rate=20.0)
 
 
 def build_course(values):
@@ -41,5 +41,4 @@ def build_course(values):
 
 
 if __name__ == '__main__':
-    exit_node(NAME, run_course_node(NAME, PARAMS, build_course, rate=20.0,
-                                    doc=__doc__))
+    exit_node(NAME, run_course_node(NAME, PARAMS, build_course, doc=__doc__))

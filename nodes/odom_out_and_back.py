@@ -23,20 +23,21 @@ import math
 from rbx1_nav.motion import PRECISE_PARAMS, legs_params
 from rbx1_nav.out_and_back import CourseConfig, OutAndBack
 from rbx1_nav.ros.node import exit_node
-from rbx1_nav.ros.runner import run_course_node
+from rbx1_nav.ros.runner import common_params, run_course_node
 
 NAME = 'odom_out_and_back'
 PARAMS = legs_params(linear_speed=0.15, goal_distance=1.0, angular_speed=0.5,
                      goal_angle=math.pi, angular_tolerance=1.0, legs=2,
                      pause=1.0) + PRECISE_PARAMS
+COURSE = tuple(p.name for p in PARAMS)
+PARAMS += common_params(rate=20.0)
 
 
 def build_course(values):
-    settings = {p.name: values[p.name] for p in PARAMS}
+    settings = {name: values[name] for name in COURSE}
     settings['angular_tolerance'] = math.radians(values['angular_tolerance'])
     return OutAndBack(CourseConfig(**settings))
 
 
 if __name__ == '__main__':
-    exit_node(NAME, run_course_node(NAME, PARAMS, build_course, rate=20.0,
-                                   doc=__doc__))
+    exit_node(NAME, run_course_node(NAME, PARAMS, build_course, doc=__doc__))

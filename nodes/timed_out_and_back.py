@@ -23,11 +23,12 @@ import math
 
 from rbx1_nav.motion import Course, legs_course, legs_params
 from rbx1_nav.ros.node import exit_node
-from rbx1_nav.ros.runner import run_course_node
+from rbx1_nav.ros.runner import common_params, run_course_node
 
 NAME = 'timed_out_and_back'
 PARAMS = legs_params(linear_speed=0.2, goal_distance=1.0, angular_speed=1.0,
-                     goal_angle=math.pi, legs=2, pause=1.0)
+                     goal_angle=math.pi, legs=2, pause=1.0) + common_params(
+                         rate=50.0)
 
 
 def build_course(values):
@@ -38,5 +39,5 @@ def build_course(values):
 
 
 if __name__ == '__main__':
-    exit_node(NAME, run_course_node(NAME, PARAMS, build_course, rate=50.0,
+    exit_node(NAME, run_course_node(NAME, PARAMS, build_course,
                                     require_tf=False, doc=__doc__))

@@ -70,7 +70,8 @@ PARAMS = (
     param('plot', 'umbmark.png', params.text, '', 'plot file (PNG)'),
     param('compare', '', params.text, '', 'an earlier results file to plot '
           'beside these (before / after)', allow_empty=True),
-) + tuple(p for p in PRECISE_PARAMS if p.name != 'precise')
+) + tuple(p for p in PRECISE_PARAMS if p.name != 'precise') + common_params(
+    rate=20.0)
 
 
 def ask(question):
@@ -192,7 +193,7 @@ def load(path):
 
 
 def main():
-    values = start_node(NAME, PARAMS + common_params(rate=20.0), __doc__)
+    values = start_node(NAME, PARAMS, __doc__)
     if values is None:
         return 1
     if values['measurements']:  # after the fact: analyse only

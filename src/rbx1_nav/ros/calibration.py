@@ -145,12 +145,16 @@ class CalibrationNode(object):
             rospy.loginfo('%s: %s', self.name, line)
 
 
+def node_params(config_type):
+    """Every parameter of a calibration node with ``config_type``."""
+    return config_params(config_type) + NODE_PARAMS + common_params(rate=20.0)
+
+
 def main(kind, config_type, doc):
     """main() of calibrate_<kind>.py (``doc``: its docstring, for --help);
     returns the exit status."""
     name = 'calibrate_' + kind.name
-    values = start_node(name, config_params(config_type) + NODE_PARAMS
-                        + common_params(rate=20.0), doc)
+    values = start_node(name, node_params(config_type), doc)
     if values is None:
         return 1
     node = CalibrationNode(kind, config_type, values)

@@ -326,17 +326,15 @@ def guarded(name, runner, work):
     return 1
 
 
-def run_course_node(name, specs, build_course, rate, require_tf=True,
-                    doc=None):
+def run_course_node(name, specs, build_course, require_tf=True, doc=None):
     """The whole main() of a course node; returns its exit status.
 
-    ``specs`` are the node's own parameters (the common ones, with ``rate``
-    as default control rate, are added); ``build_course(values)`` returns
-    the :class:`rbx1_nav.motion.Course` to drive; ``doc`` (the node's
+    ``specs`` are all the node's parameters, :func:`common_params` among
+    them; ``build_course(values)`` returns the
+    :class:`rbx1_nav.motion.Course` to drive; ``doc`` (the node's
     docstring) heads its ``--help``.
     """
-    all_specs = tuple(specs) + common_params(rate)
-    values = start_node(name, all_specs, doc)
+    values = start_node(name, specs, doc)
     if values is None:
         return 1
     try:
