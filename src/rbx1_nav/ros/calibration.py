@@ -90,8 +90,13 @@ class CalibrationNode(object):
                 measured, self.measured = self.measured, 0.0
             if config['start_test']:
                 self.run_test(config)
-                self.server.update_configuration({'start_test': False,
-                                                  self.kind.measured: 0.0})
+                try:
+                    self.server.update_configuration({'start_test': False,
+                                                      self.kind.measured: 0.0})
+                except rospy.ROSException:
+                    if rospy.core.is_shutdown_requested():
+                        break  # Ctrl-C after the test: the robot is stopped
+                    raise
             elif measured > 0.0:
                 self.report(measured, 'measured on the floor')
             try:

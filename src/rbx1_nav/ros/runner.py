@@ -319,8 +319,13 @@ def guarded(name, runner, work):
     except rospy.ROSInterruptException:
         rospy.logwarn('%s: interrupted; robot stopped', name)
     except Exception as err:  # log it, stop the robot, exit non-zero
-        rospy.logerr('%s: %s: %s; stopping the robot', name,
-                     type(err).__name__, err, exc_info=True)
+        if rospy.core.is_shutdown_requested():
+            # A signal shuts rospy down in another thread (rbx1_nav.ros.node):
+            # a call it closed under us is the interruption, not a fault.
+            rospy.logwarn('%s: interrupted; robot stopped', name)
+        else:
+            rospy.logerr('%s: %s: %s; stopping the robot', name,
+                         type(err).__name__, err, exc_info=True)
     finally:
         runner.stop()
     return 1
