@@ -5,19 +5,23 @@ A drop-in for the ArbotiX fake robot of ROS By Example. The motion model is
 rbx1_nav.diff_drive; this node only reads parameters and wires it to ROS.
 
 Subscribes:  cmd_vel (geometry_msgs/Twist)
-Publishes:   odom (nav_msgs/Odometry), tf odom_frame -> base_frame,
+Publishes:   odom (nav_msgs/Odometry), tf odom_frame -> base_frame, static
+             tf ground_truth_frame -> odom_frame (identity: odometry and
+             the truth start together, so RViz shows both),
              joint_states (sensor_msgs/JointState), ground_truth
-             (nav_msgs/Odometry), imu_data (sensor_msgs/Imu, if ~publish_imu)
-Parameters:  ~rate, ~odom_frame, ~base_frame, ~publish_tf, ~ground_truth_frame,
-             ~imu_frame, ~publish_imu, ~left_wheel_joint, ~right_wheel_joint,
-             ~pose_covariance_diagonal, ~twist_covariance_diagonal and every
-             field of rbx1_nav.diff_drive.DiffDriveConfig (bounds in its
-             CONFIG_LIMITS). ~rate is 50 Hz by default, 0.01 to 1000.
-             A bad value is logged and the node exits with status 1.
+             (nav_msgs/Odometry), imu_data (sensor_msgs/Imu, if ~publish_imu),
+             gps (nav_msgs/Odometry, if ~publish_gps: the true x, y in
+             ~ground_truth_frame plus white noise of ~gps_noise m (1 sigma),
+             at ~gps_rate Hz, with variance ~gps_noise^2; seeded by ~seed)
+Parameters:  PARAMS below (--help lists them) and every field of
+             rbx1_nav.diff_drive.DiffDriveConfig (bounds in its
+             CONFIG_LIMITS). A bad value is logged and the node exits with
+             status 1.
 """
 import math
 import threading
 
+import numpy as np
 import rospy
 import tf2_ros
 from geometry_msgs.msg import Quaternion, TransformStamped, Twist
@@ -26,7 +30,9 @@ from sensor_msgs.msg import Imu, JointState
 
 from rbx1_nav.diff_drive import (DEFAULT_COVARIANCE_DIAGONAL, DiffDriveConfig,
                                  DiffDriveSim, covariance_from_diagonal)
-from rbx1_nav.params import flag, frame, number, number_list, text
+from rbx1_nav.params import (POSITIVE, flag, frame, number, number_list, param,
+                             raw, text)
+from rbx1_nav.ros.node import start_node, until_shutdown
 from rbx1_nav.transform_utils import yaw_to_quaternion
 
 WARN_PERIOD = 5.0  # s between repeats of the same warning
@@ -35,25 +41,37 @@ MAX_CATCH_UP = 1.0  # s of ROS time the loop replays step by step when late
 # huge rate would be a zero period (an endless catch-up) and a tiny one a
 # sleep too long for the OS.
 MIN_RATE, MAX_RATE = 0.01, 1000.0
+MAX_GPS_NOISE = 1000.0  # m, bound of ~gps_noise
+GPS_UNKNOWN_VARIANCE = 1e6  # reported for z and the orientation (not measured)
 
 
-def param(name, default, check, **options):
-    """Parameter ``name`` checked by a rbx1_nav.params function."""
-    return check(name, rospy.get_param(name, default), **options)
-
-
-def model_config():
-    """DiffDriveConfig filled from the node's private parameters."""
-    raw = {name: rospy.get_param('~' + name, getattr(DiffDriveConfig, name))
-           for name in DiffDriveConfig.names()}
-    return DiffDriveConfig.from_params(raw, prefix='~')
-
-
-def covariance_param(name):
-    """A 6-variance covariance diagonal parameter, as a row-major 36-list."""
-    diagonal = param(name, list(DEFAULT_COVARIANCE_DIAGONAL), number_list,
-                     length=6, minimum=0.0, allow_zero=False)
-    return diagonal, covariance_from_diagonal(diagonal)
+COVARIANCE = dict(length=6, **POSITIVE)
+PARAMS = (
+    param('rate', 50.0, number, 'Hz', 'simulation steps per second',
+          minimum=MIN_RATE, maximum=MAX_RATE),
+    param('odom_frame', 'odom', frame, '', 'odometry frame'),
+    param('base_frame', 'base_footprint', frame, '', 'robot frame'),
+    param('ground_truth_frame', 'world', frame, '',
+          'frame of ground_truth and gps; tf to odom_frame is static'),
+    param('imu_frame', '', frame, '', "frame of imu_data; '' = base_frame",
+          allow_empty=True),
+    param('publish_tf', True, flag, '', 'publish odom_frame -> base_frame'),
+    param('publish_imu', False, flag, '', 'publish the gyro on imu_data'),
+    param('publish_gps', False, flag, '', 'publish noisy true x, y on gps'),
+    param('gps_noise', 0.3, number, 'm', 'GPS noise (1 sigma)',
+          maximum=MAX_GPS_NOISE, **POSITIVE),
+    param('gps_rate', 1.0, number, 'Hz', 'GPS fixes per second',
+          minimum=MIN_RATE, maximum=MAX_RATE),
+    param('left_wheel_joint', 'left_wheel_joint', text, '', 'joint name'),
+    param('right_wheel_joint', 'right_wheel_joint', text, '', 'joint name'),
+    param('pose_covariance_diagonal', list(DEFAULT_COVARIANCE_DIAGONAL),
+          number_list, '', 'odom pose variances x y z roll pitch yaw',
+          **COVARIANCE),
+    param('twist_covariance_diagonal', list(DEFAULT_COVARIANCE_DIAGONAL),
+          number_list, '', 'odom twist variances', **COVARIANCE),
+) + tuple(param(name, getattr(DiffDriveConfig, name), raw, '',
+                'model setting, checked by rbx1_nav.diff_drive')
+          for name in DiffDriveConfig.names())
 
 
 def fill_odometry(msg, stamp, frame_id, child, pose, velocity):
@@ -71,30 +89,24 @@ def fill_odometry(msg, stamp, frame_id, child, pose, velocity):
 class FakeTurtleBot:
     """Parameters, publishers and the fixed-rate loop around DiffDriveSim."""
 
-    def __init__(self):
-        self.rate = param('~rate', 50.0, number, minimum=MIN_RATE, maximum=MAX_RATE)
-        self.odom_frame = param('~odom_frame', 'odom', frame)
-        self.base_frame = param('~base_frame', 'base_footprint', frame)
-        self.truth_frame = param('~ground_truth_frame', 'world', frame)
-        self.imu_frame = param('~imu_frame', self.base_frame, frame)
-        self.publish_tf = param('~publish_tf', True, flag)
-        self.publish_imu = param('~publish_imu', False, flag)
-        self.joints = [param('~left_wheel_joint', 'left_wheel_joint', text),
-                       param('~right_wheel_joint', 'right_wheel_joint', text)]
-        pose_diag, self.pose_cov = covariance_param('~pose_covariance_diagonal')
-        twist_diag, self.twist_cov = covariance_param('~twist_covariance_diagonal')
-        self.sim = DiffDriveSim(model_config())
+    def __init__(self, values):
+        self.rate = values['rate']
+        self.odom_frame = values['odom_frame']
+        self.base_frame = values['base_frame']
+        self.truth_frame = values['ground_truth_frame']
+        self.imu_frame = values['imu_frame'] or self.base_frame
+        self.publish_tf = values['publish_tf']
+        self.publish_imu = values['publish_imu']
+        self.publish_gps = values['publish_gps']
+        self.gps_noise = values['gps_noise']
+        self.gps_rate = values['gps_rate']
+        self.joints = [values['left_wheel_joint'], values['right_wheel_joint']]
+        self.pose_cov = covariance_from_diagonal(values['pose_covariance_diagonal'])
+        self.twist_cov = covariance_from_diagonal(values['twist_covariance_diagonal'])
+        self.sim = DiffDriveSim(DiffDriveConfig.from_params(
+            {name: values[name] for name in DiffDriveConfig.names()}, prefix='~'))
         self.lock = threading.Lock()
         self.was_timed_out = True
-
-        used = dict(vars(self.sim.config), rate=self.rate, odom_frame=self.odom_frame,
-                    base_frame=self.base_frame, ground_truth_frame=self.truth_frame,
-                    publish_tf=self.publish_tf, publish_imu=self.publish_imu,
-                    imu_frame=self.imu_frame, wheel_joints=self.joints,
-                    pose_covariance_diagonal=pose_diag,
-                    twist_covariance_diagonal=twist_diag)
-        rospy.loginfo('fake_turtlebot parameters: %s',
-                      ', '.join('%s=%r' % item for item in sorted(used.items())))
         if self.sim.config.cmd_timeout < 1.0 / self.rate:
             rospy.logwarn('fake_turtlebot: ~cmd_timeout (%g s) is shorter than one '
                           'step (1/~rate = %g s); the watchdog will stop the base '
@@ -109,7 +121,22 @@ class FakeTurtleBot:
         self.joint_pub = rospy.Publisher('joint_states', JointState, queue_size=queue)
         self.imu_pub = (rospy.Publisher('imu_data', Imu, queue_size=queue)
                         if self.publish_imu else None)
+        self.gps_pub = (rospy.Publisher('gps', Odometry, queue_size=10)
+                        if self.publish_gps else None)
+        # Its own generator, so turning the GPS on leaves the odometry and
+        # gyro noise of a given ~seed unchanged.
+        seed = self.sim.config.seed
+        self.gps_rng = np.random.default_rng(None if seed is None
+                                             else [seed, 1])
+        self.next_gps = None
         self.tf_pub = tf2_ros.TransformBroadcaster() if self.publish_tf else None
+        self.static_tf = tf2_ros.StaticTransformBroadcaster()
+        world = TransformStamped()
+        world.header.stamp = rospy.Time.now()
+        world.header.frame_id = self.truth_frame
+        world.child_frame_id = self.odom_frame
+        world.transform.rotation.w = 1.0
+        self.static_tf.sendTransform(world)
         rospy.Subscriber('cmd_vel', Twist, self.on_cmd_vel, queue_size=1)
 
     def on_cmd_vel(self, msg):
@@ -203,6 +230,33 @@ class FakeTurtleBot:
                                                  self.base_frame, sim.truth, sim.velocity))
         if self.imu_pub and self.imu_pub.get_num_connections():
             self.imu_pub.publish(self.imu_message(stamp))
+        if self.gps_pub:
+            self.publish_gps_fix(stamp)
+
+    def publish_gps_fix(self, stamp):
+        """Every 1/~gps_rate s: the true x, y plus white noise, on gps."""
+        period = rospy.Duration.from_sec(1.0 / self.gps_rate)
+        if self.next_gps is None or stamp + period < self.next_gps:
+            self.next_gps = stamp  # start, or time moved backwards
+        if stamp < self.next_gps:
+            return
+        self.next_gps += period
+        if self.next_gps <= stamp:  # far behind: back on the grid from now
+            self.next_gps = stamp + period
+        noise = self.gps_rng.normal(0.0, self.gps_noise, 2)
+        fix = Odometry()
+        fix.header.stamp = stamp
+        fix.header.frame_id = self.truth_frame
+        fix.child_frame_id = self.base_frame
+        fix.pose.pose.position.x = self.sim.truth.x + noise[0]
+        fix.pose.pose.position.y = self.sim.truth.y + noise[1]
+        fix.pose.pose.orientation.w = 1.0
+        variance = self.gps_noise ** 2
+        fix.pose.covariance = covariance_from_diagonal(
+            [variance, variance] + [GPS_UNKNOWN_VARIANCE] * 4)
+        fix.twist.covariance = covariance_from_diagonal(
+            [GPS_UNKNOWN_VARIANCE] * 6)
+        self.gps_pub.publish(fix)
 
     def imu_message(self, stamp):
         """sensor_msgs/Imu with the gyro's yaw and yaw rate (no accelerometer)."""
@@ -219,13 +273,15 @@ class FakeTurtleBot:
 
 
 def main():
-    rospy.init_node('fake_turtlebot')
+    values = start_node('fake_turtlebot', PARAMS, __doc__)
+    if values is None:
+        raise SystemExit(1)
     try:
-        robot = FakeTurtleBot()
+        robot = FakeTurtleBot(values)
     except ValueError as err:
         rospy.logfatal('fake_turtlebot: %s', err)
         raise SystemExit(1)
-    robot.spin()
+    until_shutdown(robot.spin)
 
 
 if __name__ == '__main__':

@@ -4,11 +4,15 @@
     rosrun rbx1_nav plot_course.py course.bag [-o course.png]
 
 Draws the odometry path (nav_msgs/Odometry on odom) and, when the bag has
-it, the simulator's true path (ground_truth), with start and end poses and
-the end-vs-start error in the title. A bag from a real robot, with odom
-only, works too. Record one with
-``roslaunch rbx1_nav odom_out_and_back_sim.launch record:=true``.
-No ROS master is needed.
+them, the simulator's true path (ground_truth) and pose_ekf's fused path
+(geometry_msgs/PoseWithCovarianceStamped on robot_pose_ekf/odom_combined),
+with start and end poses and the end-vs-start error in the title. A bag
+from a real robot, with odom only, works too. With a fused path and a true
+path, the title also gives each path's final distance from the truth.
+Record one with
+``roslaunch rbx1_nav odom_out_and_back_sim.launch record:=true``; fuse it
+again with ``roslaunch rbx1_nav pose_ekf_replay.launch bag:=course.bag
+record:=true out:=fused.bag`` and plot ``fused.bag``. No ROS master is needed.
 """
 import argparse
 import os
@@ -16,12 +20,17 @@ import sys
 
 import rosbag
 
-from rbx1_nav.course_plot import Track, describe_error, plot_course
+from rbx1_nav.course_plot import (Track, describe_error,
+                                  describe_final_offset, plot_course)
 from rbx1_nav.transform_utils import quat_to_angle
 
 
 def read_tracks(bag_path, topics):
-    """One Track per (name, topic) pair, from the Odometry messages in a bag."""
+    """One Track per (name, topic) pair, from the pose messages in a bag.
+
+    Any message with ``pose.pose`` works: nav_msgs/Odometry and
+    geometry_msgs/PoseWithCovarianceStamped.
+    """
     wanted = dict((topic.strip('/'), Track(name)) for name, topic in topics)
     with rosbag.Bag(bag_path) as bag:
         # Bags store names as recorded: '/odom', or 'odom' if given relative.
@@ -42,11 +51,15 @@ def main(argv=None):
     parser.add_argument('--odom-topic', default='odom')
     parser.add_argument('--truth-topic', default='ground_truth',
                         help='true pose topic; skipped if not in the bag')
+    parser.add_argument('--fused-topic', default='robot_pose_ekf/odom_combined',
+                        help='fused pose topic (pose_ekf); skipped if not in '
+                        'the bag')
     args = parser.parse_args(argv)
     output = args.output or os.path.splitext(args.bag)[0] + '.png'
     try:
-        odom, truth = read_tracks(args.bag, [('odom', args.odom_topic),
-                                             ('ground truth', args.truth_topic)])
+        odom, truth, fused = read_tracks(args.bag, [
+            ('odom', args.odom_topic), ('ground truth', args.truth_topic),
+            ('fused', args.fused_topic)])
     except (IOError, OSError, rosbag.ROSBagException) as err:
         print('plot_course: cannot read %s: %s' % (args.bag, err), file=sys.stderr)
         return 1
@@ -54,9 +67,14 @@ def main(argv=None):
         print('plot_course: no nav_msgs/Odometry on %s in %s' % (
             args.odom_topic, args.bag), file=sys.stderr)
         return 1
-    plot_course([odom, truth], output, title=os.path.basename(args.bag))
+    tracks = [odom, truth, fused]
+    plot_course(tracks, output, title=os.path.basename(args.bag),
+                reference=truth if len(truth) else None)
     print('plot_course: wrote %s; end vs start: %s' % (output, '; '.join(
-        describe_error(t) for t in (odom, truth) if len(t))))
+        describe_error(t) for t in tracks if len(t))))
+    if len(truth):
+        print('plot_course: final distance from the truth: %s' % '; '.join(
+            describe_final_offset(t, truth) for t in (odom, fused) if len(t)))
     return 0
 
 

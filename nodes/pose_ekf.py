@@ -1,125 +1,246 @@
 #!/usr/bin/env python3
-"""A drop-in for robot_pose_ekf: fuse wheel odometry with a gyro's yaw.
+"""A drop-in for robot_pose_ekf: fuse wheel odometry, a gyro, visual
+odometry and GPS into one planar pose.
 
-Subscribes ``odom`` (nav_msgs/Odometry) and ``imu_data`` (sensor_msgs/Imu);
-publishes ``~odom_combined`` (geometry_msgs/PoseWithCovarianceStamped) and
-the tf ``output_frame -> base_footprint_frame``. The filter lives in
-``rbx1_nav.pose_ekf``; this node only converts messages and keeps time.
+Subscribes ``odom`` (nav_msgs/Odometry), ``imu_data`` (sensor_msgs/Imu),
+``vo`` (nav_msgs/Odometry) and ``gps`` (nav_msgs/Odometry), each only when
+used; publishes ``~odom_combined`` (geometry_msgs/PoseWithCovarianceStamped)
+and, unless ``~publish_tf`` is false, the tf ``output_frame ->
+base_footprint_frame``. Service ``~get_status`` (std_srvs/Trigger): the
+filter's state, each sensor's, and the covariance, in ``message``. The
+filter lives in ``rbx1_nav.pose_ekf``; this node converts messages, keeps
+time and watches for problems:
 
-Private parameters (robot_pose_ekf's names and defaults):
+* a used sensor with no message ``sensor_timeout`` after start-up gets one
+  warning naming its (remapped) topic and who publishes it;
+* another node publishing the same transform on tf gets an error naming
+  it and the fix, repeated every 30 s while it lasts.
+
+Private parameters (robot_pose_ekf's names and defaults, plus publish_tf):
   ~output_frame (str, 'odom'), ~base_footprint_frame (str, 'base_footprint'),
   ~freq (float, 30.0): filter steps per second, 0.01 to 1000,
   ~sensor_timeout (float, 1.0): seconds without messages before a sensor is
-      left out of the fusion,
-  ~odom_used (bool, true), ~imu_used (bool, true),
-  ~vo_used (bool, false): accepted for compatibility; visual odometry is not
-      supported and is ignored.
-The IMU's yaw is used as is: mount it with its z axis up. A bad parameter
-is logged and the node exits with status 1. Absurd sensor messages are
-dropped with a warning, and should the estimate ever stop being finite the
-filter restarts instead of publishing it.
+      left out of the fusion (it is taken back when it returns),
+  ~odom_used (bool, true), ~imu_used (bool, true), ~vo_used (bool, false),
+  ~gps_used (bool, false),
+  ~publish_tf (bool, true): false runs pose_ekf as an estimator only.
+The IMU's yaw is used as is: mount it with its z axis up. GPS x, y are
+taken in a frame with the output frame's axes; its origin is learned from
+the fixes (keep the robot still for a few fixes after start-up). A bad
+parameter is logged and the node exits with status 1. Absurd sensor
+messages are dropped with a warning, and should the estimate ever stop
+being finite the filter restarts instead of publishing it.
 """
 import threading
 
+import rosgraph
 import rospy
 import tf2_ros
 from geometry_msgs.msg import (PoseWithCovarianceStamped, Quaternion,
                                TransformStamped)
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu
+from std_srvs.srv import Trigger, TriggerResponse
+from tf2_msgs.msg import TFMessage
 
-from rbx1_nav.params import flag, frame, number
-from rbx1_nav.pose_ekf import (GyroOdomFusion, covariance_6x6,
-                               is_finite_estimate, pose_covariance_3x3)
+from rbx1_nav import params
+from rbx1_nav.pose_ekf import (GyroOdomFusion, OtherPublisherWatch,
+                               covariance_6x6, is_finite_estimate,
+                               other_publisher_text, pose_covariance_3x3,
+                               position_covariance_2x2, silent_sensor_text)
+from rbx1_nav.ros.node import start_node, until_shutdown
 from rbx1_nav.transform_utils import quat_to_angle, yaw_to_quaternion
 
 WARN_PERIOD = 5.0  # s between repeats of the same warning
+CONFLICT_PERIOD = 30.0  # s between repeats of the second-publisher error
+MASTER_WAIT = 3.0  # wall s to wait for the master's answer about a topic
 MIN_FREQ, MAX_FREQ = 0.01, 1000.0  # Hz, bounds of ~freq
 
+PARAMS = (
+    params.param('output_frame', 'odom', params.frame, '',
+                 'parent frame of the fused pose and its tf'),
+    params.param('base_footprint_frame', 'base_footprint', params.frame, '',
+                 'child frame of the tf'),
+    params.param('freq', 30.0, params.number, 'Hz', 'filter steps per second',
+                 minimum=MIN_FREQ, maximum=MAX_FREQ),
+    params.param('sensor_timeout', 1.0, params.number, 's',
+                 'silence before a sensor is left out', minimum=0.0,
+                 allow_zero=False),
+    params.param('odom_used', True, params.flag, '', 'fuse odom'),
+    params.param('imu_used', True, params.flag, '', 'fuse imu_data (yaw)'),
+    params.param('vo_used', False, params.flag, '', 'fuse vo (relative pose)'),
+    params.param('gps_used', False, params.flag, '', 'fuse gps (x, y)'),
+    params.param('publish_tf', True, params.flag, '',
+                 'publish tf output_frame -> base_footprint_frame'),
+)
+#: Each sensor's topic and message type (relative names, as robot_pose_ekf).
+TOPICS = {'odom': ('odom', Odometry), 'imu': ('imu_data', Imu),
+          'vo': ('vo', Odometry), 'gps': ('gps', Odometry)}
 
-def param(name, default, check, **options):
-    """Parameter ``name`` checked by a rbx1_nav.params function."""
-    return check(name, rospy.get_param(name, default), **options)
+
+def topic_publishers(topic):
+    """Nodes publishing ``topic`` according to the master, or None.
+
+    Asked from a helper thread so an unreachable master delays the caller
+    by at most MASTER_WAIT wall seconds.
+    """
+    answer = []
+
+    def ask():
+        try:
+            pubs, _, _ = rosgraph.Master(rospy.get_name()).getSystemState()
+            answer.append(next((nodes for name, nodes in pubs
+                                if name == topic), []))
+        except Exception:  # noqa: BLE001 - any failure means "unknown"
+            pass
+    thread = threading.Thread(target=ask, daemon=True)
+    thread.start()
+    thread.join(MASTER_WAIT)
+    return answer[0] if answer else None
 
 
 class PoseEkfNode(object):
     """Feeds sensor messages to GyroOdomFusion and publishes its estimate."""
 
-    def __init__(self):
-        self.output_frame = param('~output_frame', 'odom', frame)
-        self.base_frame = param('~base_footprint_frame', 'base_footprint',
-                                frame)
-        self.freq = param('~freq', 30.0, number, minimum=MIN_FREQ,
-                          maximum=MAX_FREQ)
-        timeout = param('~sensor_timeout', 1.0, number, minimum=0.0,
-                        allow_zero=False)
-        odom_used = param('~odom_used', True, flag)
-        imu_used = param('~imu_used', True, flag)
-        vo_used = param('~vo_used', False, flag)
-        rospy.loginfo('pose_ekf: output_frame=%s base_footprint_frame=%s '
-                      'freq=%g sensor_timeout=%g odom_used=%s imu_used=%s '
-                      'vo_used=%s', self.output_frame, self.base_frame,
-                      self.freq, timeout, odom_used, imu_used, vo_used)
-        if vo_used:
-            rospy.logwarn('pose_ekf: vo_used is set, but visual odometry is '
-                          'not supported; fusing odometry and IMU only')
-        self.fusion = GyroOdomFusion(odom_used, imu_used, timeout)
+    def __init__(self, values):
+        self.output_frame = values['output_frame']
+        self.base_frame = values['base_footprint_frame']
+        self.freq = values['freq']
+        self.publish_tf = values['publish_tf']
+        used = {name: values[name + '_used'] for name in TOPICS}
+        self.fusion = GyroOdomFusion(used['odom'], used['imu'],
+                                     values['sensor_timeout'], used['vo'],
+                                     used['gps'])
         self.lock = threading.Lock()
         self.pub = rospy.Publisher('~odom_combined', PoseWithCovarianceStamped,
                                    queue_size=10)
-        self.tf = tf2_ros.TransformBroadcaster()
-        self.subs = []
-        if odom_used:
-            self.subs.append(rospy.Subscriber('odom', Odometry, self.on_odom,
-                                              queue_size=50))
-        if imu_used:
-            self.subs.append(rospy.Subscriber('imu_data', Imu, self.on_imu,
-                                              queue_size=50))
+        self.tf = tf2_ros.TransformBroadcaster() if self.publish_tf else None
+        callbacks = {'odom': self.on_odom, 'imu': self.on_imu,
+                     'vo': self.on_vo, 'gps': self.on_gps}
+        self.subs, self.topics = {}, {}
+        for name, (topic, msg_type) in TOPICS.items():
+            if used[name]:
+                sub = rospy.Subscriber(topic, msg_type, callbacks[name],
+                                       queue_size=50)
+                self.subs[name], self.topics[name] = sub, sub.resolved_name
+        rospy.loginfo('pose_ekf: listening on %s; publishing %s%s', ', '.join(
+            '%s %s' % item for item in sorted(self.topics.items())),
+            self.pub.resolved_name,
+            ' and tf %s -> %s' % (self.output_frame, self.base_frame)
+            if self.publish_tf else ' only (~publish_tf false: no tf)')
+        self.conflicts = OtherPublisherWatch(CONFLICT_PERIOD)
+        self.tf_sub = None
+        if self.publish_tf:
+            # '/tf' as the broadcaster names it, so a <remap from="/tf">
+            # applies to both.
+            self.tf_sub = rospy.Subscriber('/tf', TFMessage, self.on_tf,
+                                           queue_size=100)
+        self.status_srv = rospy.Service('~get_status', Trigger,
+                                        self.on_get_status)
 
+    # -- inputs -----------------------------------------------------------------
     @staticmethod
     def _stamp(header, now):
         """The message stamp, or the receive time for an unstamped message."""
         return header.stamp if not header.stamp.is_zero() else now
 
-    def on_odom(self, msg):
-        """Hand an odometry pose and its covariance to the filter."""
+    def _feed(self, name, add, msg, *reading):
         now = rospy.Time.now()
+        try:
+            with self.lock:
+                add(now.to_sec(), self._stamp(msg.header, now).to_sec(),
+                    *reading)
+        except ValueError as err:
+            rospy.logwarn_throttle(WARN_PERIOD, 'pose_ekf: dropped %s from %s: '
+                                   '%s' % (name, self.topics[name], err))
+
+    def _planar_pose(self, name, msg):
         pose = msg.pose.pose
         try:
-            reading = ((pose.position.x, pose.position.y,
-                        quat_to_angle(pose.orientation)),
-                       pose_covariance_3x3(msg.pose.covariance))
-            with self.lock:
-                self.fusion.add_odom(now.to_sec(), self._stamp(msg.header, now),
-                                     *reading)
+            return ((pose.position.x, pose.position.y,
+                     quat_to_angle(pose.orientation)),
+                    pose_covariance_3x3(msg.pose.covariance))
         except ValueError as err:
-            rospy.logwarn_throttle(WARN_PERIOD, 'pose_ekf: dropped odom: %s'
-                                   % err)
+            rospy.logwarn_throttle(WARN_PERIOD, 'pose_ekf: dropped %s from %s: '
+                                   '%s' % (name, self.topics[name], err))
+            return None
+
+    def on_odom(self, msg):
+        """Hand an odometry pose and its covariance to the filter."""
+        reading = self._planar_pose('odom', msg)
+        if reading:
+            self._feed('odom', self.fusion.add_odom, msg, *reading)
+
+    def on_vo(self, msg):
+        """Hand a visual odometry pose and its covariance to the filter."""
+        reading = self._planar_pose('vo', msg)
+        if reading:
+            self._feed('vo', self.fusion.add_vo, msg, *reading)
+
+    def on_gps(self, msg):
+        """Hand a GPS fix (x, y; z ignored) and its covariance to the filter."""
+        position = msg.pose.pose.position
+        self._feed('gps', self.fusion.add_gps, msg, (position.x, position.y),
+                   position_covariance_2x2(msg.pose.covariance))
 
     def on_imu(self, msg):
         """Hand the IMU's yaw and its variance to the filter."""
-        now = rospy.Time.now()
         if msg.orientation_covariance[0] == -1.0:
-            rospy.logwarn_throttle(WARN_PERIOD, 'pose_ekf: dropped imu_data: it has '
-                                   'no orientation (covariance[0] == -1)')
+            rospy.logwarn_throttle(WARN_PERIOD, 'pose_ekf: dropped imu from %s:'
+                                   ' it has no orientation (covariance[0] == '
+                                   '-1)' % self.topics['imu'])
             return
         try:
             yaw = quat_to_angle(msg.orientation)
-            with self.lock:
-                self.fusion.add_imu(now.to_sec(), self._stamp(msg.header, now),
-                                    yaw, msg.orientation_covariance[8])
         except ValueError as err:
-            rospy.logwarn_throttle(WARN_PERIOD, 'pose_ekf: dropped imu_data: %s'
-                                   % err)
+            rospy.logwarn_throttle(WARN_PERIOD, 'pose_ekf: dropped imu from %s:'
+                                   ' %s' % (self.topics['imu'], err))
+            return
+        self._feed('imu', self.fusion.add_imu, msg, yaw,
+                   msg.orientation_covariance[8])
 
+    def on_tf(self, msg):
+        """Spot another node publishing our child frame on tf."""
+        caller = msg._connection_header.get('callerid', '?')
+        if caller == rospy.get_name():
+            return
+        for tf in msg.transforms:
+            if tf.child_frame_id.lstrip('/') != self.base_frame:
+                continue
+            if self.conflicts.seen(caller, rospy.Time.now().to_sec()):
+                rospy.logerr('pose_ekf: ' + other_publisher_text(
+                    caller, tf.header.frame_id.lstrip('/'), self.base_frame,
+                    self.tf_sub.resolved_name))
+            return
+
+    def on_get_status(self, _request):
+        now = rospy.Time.now().to_sec()
+        with self.lock:
+            text = self.fusion.status_text(now, self.topics)
+        text += '\noutput: %s, tf %s' % (
+            self.pub.resolved_name, '%s -> %s' % (
+                self.output_frame, self.base_frame) if self.publish_tf
+            else 'off (~publish_tf false)')
+        others = self.conflicts.publishers
+        if others:
+            text += '\nalso publishing %s on tf: %s' % (self.base_frame,
+                                                        ', '.join(others))
+        return TriggerResponse(success=self.fusion.estimate is not None,
+                               message=text)
+
+    # -- the loop ---------------------------------------------------------------
     def step(self):
         """One filter step; publish the estimate if it took in new data.
 
         A non-finite estimate is never published: the filter restarts.
         """
+        now = rospy.Time.now()
+        if now.is_zero():  # simulated time has not started
+            return
+        now = now.to_sec()
         with self.lock:
             try:
-                events = self.fusion.step(rospy.Time.now().to_sec())
+                events = self.fusion.step(now)
                 estimate = self.fusion.estimate if self.fusion.updated else None
                 if not is_finite_estimate(estimate):
                     raise ValueError('the estimate is not finite')
@@ -128,28 +249,39 @@ class PoseEkfNode(object):
                 events, estimate = [], None
                 rospy.logwarn_throttle(WARN_PERIOD, 'pose_ekf: filter restarted'
                                        ' (%s); waiting for new sensor data' % err)
+            silent = self.fusion.silent_sensors(now)
+            gone = self.conflicts.gone(now)
         for level, text in events:
             (rospy.logwarn if level == 'warn' else rospy.loginfo)(
                 'pose_ekf: ' + text)
+        for name in silent:
+            topic = self.topics[name]
+            rospy.logwarn('pose_ekf: ' + silent_sensor_text(
+                name, topic, self.fusion.sensor_timeout,
+                topic_publishers(topic)))
+        for caller in gone:
+            rospy.loginfo('pose_ekf: %s no longer publishes %s on tf',
+                          caller, self.base_frame)
         if estimate is not None:
             self.publish(*estimate)
 
     def publish(self, stamp, pose, cov3):
-        """Publish ``~odom_combined`` and the output -> base tf."""
+        """Publish ``~odom_combined`` and (with ~publish_tf) the tf."""
         x, y, yaw = pose
         msg = PoseWithCovarianceStamped()
-        msg.header.stamp = stamp
+        msg.header.stamp = rospy.Time.from_sec(stamp)
         msg.header.frame_id = self.output_frame
         msg.pose.pose.position.x, msg.pose.pose.position.y = x, y
         msg.pose.pose.orientation = Quaternion(*yaw_to_quaternion(yaw))
         msg.pose.covariance = covariance_6x6(cov3)
-        tf = TransformStamped()
-        tf.header = msg.header
-        tf.child_frame_id = self.base_frame
-        tf.transform.translation.x, tf.transform.translation.y = x, y
-        tf.transform.rotation = msg.pose.pose.orientation
         self.pub.publish(msg)
-        self.tf.sendTransform(tf)
+        if self.tf is not None:
+            tf = TransformStamped()
+            tf.header = msg.header
+            tf.child_frame_id = self.base_frame
+            tf.transform.translation.x, tf.transform.translation.y = x, y
+            tf.transform.rotation = msg.pose.pose.orientation
+            self.tf.sendTransform(tf)
 
     def spin(self):
         """Step at ``~freq`` (ROS time, so sim time works) until shutdown."""
@@ -165,13 +297,15 @@ class PoseEkfNode(object):
 
 
 def main():
-    rospy.init_node('robot_pose_ekf')
+    values = start_node('robot_pose_ekf', PARAMS, __doc__)
+    if values is None:
+        raise SystemExit(1)
     try:
-        node = PoseEkfNode()
+        node = PoseEkfNode(values)
     except ValueError as err:
         rospy.logfatal('pose_ekf: %s' % err)
         raise SystemExit(1)
-    node.spin()
+    until_shutdown(node.spin)
 
 
 if __name__ == '__main__':

@@ -9,7 +9,8 @@ import math
 
 from rbx1_nav.transform_utils import normalize_angle
 
-__all__ = ['Track', 'end_error', 'plot_course', 'describe_error']
+__all__ = ['Track', 'end_error', 'plot_course', 'describe_error',
+           'final_offset', 'describe_final_offset']
 
 
 class Track(object):
@@ -55,6 +56,25 @@ def describe_error(track):
                                         math.degrees(heading))
 
 
+def final_offset(track, reference):
+    """Metres between the last poses of ``track`` and ``reference``.
+
+    For a fused or odometry track against the ground truth of the same run
+    (both in frames that coincide at the start, as in the simulator).
+    """
+    if not track.poses or not reference.poses:
+        raise ValueError('final_offset needs two non-empty tracks')
+    (x0, y0, _), (x1, y1, _) = track.poses[-1], reference.poses[-1]
+    return math.hypot(x1 - x0, y1 - y0)
+
+
+def describe_final_offset(track, reference):
+    """'fused: 41.0 mm from ground truth' at the end of the run."""
+    return '%s: %.1f mm from %s' % (track.name,
+                                    1000.0 * final_offset(track, reference),
+                                    reference.name)
+
+
 def _pose_arrow(ax, pose, color, label, length=0.12):
     x, y, yaw = pose
     ax.annotate('', xy=(x + length * math.cos(yaw), y + length * math.sin(yaw)),
@@ -64,10 +84,12 @@ def _pose_arrow(ax, pose, color, label, length=0.12):
             markersize=7, linestyle='none')
 
 
-def plot_course(tracks, path, title=None):
+def plot_course(tracks, path, title=None, reference=None):
     """Draw every non-empty track with start/end poses; save a PNG to path.
 
-    Returns the title used (first line: the course, second: the errors).
+    Returns the title used (first line: the course, second: the errors;
+    with a ``reference`` track, such as the ground truth, a third line: each
+    other track's final distance from it).
     """
     import matplotlib
     matplotlib.use('Agg')
@@ -90,6 +112,10 @@ def plot_course(tracks, path, title=None):
     ax.plot([], [], 'ks', label='end pose')
     full_title = '%s\nend vs start: %s' % (
         title or 'Out and back', '; '.join(describe_error(t) for t in tracks))
+    others = [t for t in tracks if reference is not None and t is not reference]
+    if reference is not None and len(reference) and others:
+        full_title += '\nat the end: %s' % '; '.join(
+            describe_final_offset(t, reference) for t in others)
     ax.set_title(full_title, fontsize=10)
     ax.set_xlabel('x (m)')
     ax.set_ylabel('y (m)')

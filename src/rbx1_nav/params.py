@@ -19,7 +19,7 @@ from collections import namedtuple
 from rbx1_nav.transform_utils import strip_leading_slash
 
 __all__ = ['number', 'integer', 'flag', 'frame', 'text', 'number_list', 'pairs',
-           'POSITIVE', 'Param', 'param', 'read_all', 'describe', 'unknown', 'usage']
+           'raw', 'POSITIVE', 'Param', 'param', 'read_all', 'describe', 'unknown', 'usage']
 
 
 def _as_float(name, value):
@@ -97,6 +97,11 @@ def flag(name, value):
     if isinstance(value, str) and value.strip().lower() in ('true', 'false'):
         return value.strip().lower() == 'true'
     raise ValueError('%s must be true or false, got %r' % (name, value))
+
+
+def raw(name, value):
+    """``value`` as given, for a parameter another module checks."""
+    return value
 
 
 def text(name, value, allow_empty=False):

@@ -1,4 +1,4 @@
-"""Planar gyro + wheel-odometry pose filter, the maths behind ``pose_ekf.py``.
+"""Planar pose filter, the maths behind ``pose_ekf.py`` (robot_pose_ekf's job).
 
 The filter estimates the robot's pose ``(x, y, yaw)`` in the output frame
 with an extended Kalman filter:
@@ -6,24 +6,33 @@ with an extended Kalman filter:
 * **Predict** with the wheel-odometry increment since the last step: the
   body-frame motion ``(dx, dy, dyaw)`` between two odometry poses, composed
   onto the estimate. The covariance grows by the increment's covariance.
-* **Update** with the gyro: the change of the IMU's yaw since its last
-  fused reading measures the change of the estimated yaw since then. The
-  filter keeps the joint distribution of the pose at that reading and now,
-  so this relative measurement is fused exactly; it shrinks the covariance
-  the prediction added.
+  Without odometry, visual odometry's increments predict in the same way.
+* **Relative updates**: the change of the gyro's yaw since its last fused
+  reading measures the change of the estimated yaw since then; the change
+  of the visual odometry pose (while wheel odometry drives the prediction)
+  measures the body-frame motion since then. The filter keeps a copy of the
+  pose at each such sensor's last update (a stochastic clone) jointly with
+  the current pose, so these relative measurements are fused exactly.
+* **Absolute updates**: a GPS fix measures x, y plus the offset between the
+  GPS frame and the output frame. That offset joins the state at the first
+  fix (so the GPS is read "relative to where the filter started") and every
+  later fix refines it and the pose, weighted by the fix's covariance. The
+  GPS frame's axes are taken to be the output frame's; z is ignored.
 
-As in robot_pose_ekf, each sensor's reported covariance is read as the
-covariance of that sensor's change between two filter steps, so the fusion
-weights are the ratio of the odometry's and the gyro's yaw variances.
+As in robot_pose_ekf, the odometry, gyro and visual odometry covariances
+are read as the covariance of that sensor's change between two filter
+steps; a GPS covariance is the fix's own (m^2).
 An odometry step with no wheel motion adds no uncertainty, so a robot at
 rest keeps its pose instead of following the gyro's drift.
-Without odometry (``odom_used`` false, or odometry timed out) the prediction
+Without odometry or visual odometry (only the gyro) the prediction
 is "no motion" with a large variance, so the yaw follows the gyro and the
 position stays put. :class:`GyroOdomFusion` adds start-up and sensor
 timeouts on top of :class:`PlanarEkf`, rejects absurd input (a variance
-above :data:`MAX_VARIANCE`, a position beyond :data:`MAX_POSITION`) and
-restarts itself should its estimate ever stop being finite. No rospy here:
-times are float seconds, poses are plain tuples.
+above :data:`MAX_VARIANCE`, a position beyond :data:`MAX_POSITION`),
+restarts itself should its estimate ever stop being finite, and describes
+its state (:meth:`GyroOdomFusion.status_text`). :class:`OtherPublisherWatch`
+spots a second publisher of the filter's transform. No rospy here: times
+are float seconds, poses are plain tuples.
 """
 import math
 
@@ -32,8 +41,10 @@ import numpy as np
 from rbx1_nav.transform_utils import normalize_angle
 
 __all__ = ['PlanarEkf', 'SensorWatch', 'GyroOdomFusion', 'odom_increment',
-           'pose_covariance_3x3', 'covariance_6x6', 'is_finite_estimate',
-           'MIN_VARIANCE', 'MAX_VARIANCE', 'MAX_POSITION']
+           'pose_covariance_3x3', 'position_covariance_2x2', 'covariance_6x6',
+           'is_finite_estimate', 'silent_sensor_text', 'OtherPublisherWatch',
+           'other_publisher_text', 'SENSORS', 'MIN_VARIANCE', 'MAX_VARIANCE',
+           'MAX_POSITION']
 
 #: Variances are floored here so a sensor reporting zero covariance (as the
 #: ArbotiX fake robot does) is trusted completely without a singular matrix.
@@ -80,6 +91,11 @@ def pose_covariance_3x3(cov36):
     return full[np.ix_(_POSE_INDICES, _POSE_INDICES)]
 
 
+def position_covariance_2x2(cov36):
+    """The (x, y) block of a row-major 6x6 ROS covariance."""
+    return np.asarray(cov36, dtype=float).reshape(6, 6)[0:2, 0:2].copy()
+
+
 def covariance_6x6(cov3):
     """Row-major 36-list: ``cov3`` on x, y, yaw; z, roll, pitch fixed."""
     full = np.diag([0.0, 0.0] + [PLANAR_FIXED_VARIANCE] * 3 + [0.0])
@@ -98,67 +114,176 @@ def floored(cov):
 class PlanarEkf(object):
     """EKF over ``(x, y, yaw)`` driven by motion increments.
 
-    :meth:`predict` composes a body-frame increment onto the pose;
-    :meth:`update_yaw_increment` fuses a measured change of yaw since the
-    *anchor*: the pose at the previous gyro update (or at :meth:`set_anchor`).
-    The filter carries the joint distribution of anchor and current pose, so
-    a yaw change spanning several predict steps is fused exactly.
+    :meth:`predict` composes a body-frame increment onto the pose. Relative
+    sensors (a gyro's yaw, visual odometry's pose) measure the change of the
+    pose since their *anchor*: a copy of the pose taken at that sensor's
+    previous update (:meth:`set_anchor`). Each anchor stays in the state
+    (a "stochastic clone"), so the joint distribution of every anchor and the
+    current pose is kept and a change spanning several predict steps is fused
+    exactly. :meth:`add_offset` appends the 2-D offset between an absolute
+    position sensor's frame (GPS) and the output frame, which
+    :meth:`update_position` then refines with each fix.
+
+    :attr:`mean` and :attr:`cov` are views of the pose part of the state
+    (3 and 3x3); the whole state is :attr:`state` / :attr:`state_cov`.
     """
 
-    def __init__(self, pose, covariance):
-        self.mean = np.array(pose, dtype=float)
-        self.cov = floored(covariance)
-        self._anchor = None  # (mean, cov, cross-cov anchor x current)
-        self.set_anchor()
+    def __init__(self, pose, covariance, anchors=('imu',)):
+        self.state = np.array(pose, dtype=float)
+        self.state_cov = floored(covariance)
+        self._blocks = {'pose': (0, 3)}  # name -> (start, size)
+        for name in anchors:
+            self.set_anchor(name)
+
+    # -- the pose part --------------------------------------------------------
+    @property
+    def mean(self):
+        return self.state[0:3]
+
+    @property
+    def cov(self):
+        return self.state_cov[0:3, 0:3]
 
     @property
     def pose(self):
         """``(x, y, yaw)`` with yaw in [-pi, pi]."""
-        return (float(self.mean[0]), float(self.mean[1]),
-                normalize_angle(self.mean[2]))
+        return (float(self.state[0]), float(self.state[1]),
+                normalize_angle(self.state[2]))
 
-    def set_anchor(self):
-        """Measure the next yaw change from the current pose."""
-        self._anchor = (self.mean.copy(), self.cov.copy(), self.cov.copy())
+    @property
+    def offset(self):
+        """``(ox, oy, 2x2 covariance)`` of the GPS frame, or None."""
+        if 'offset' not in self._blocks:
+            return None
+        i, _ = self._blocks['offset']
+        return (float(self.state[i]), float(self.state[i + 1]),
+                self.state_cov[i:i + 2, i:i + 2].copy())
 
-    def drop_anchor(self):
-        """Forget the anchor (the gyro is gone); updates need a new one."""
-        self._anchor = None
+    # -- state blocks ---------------------------------------------------------
+    def _append(self, name, mean, cov, cross):
+        """Append block ``name`` with its covariance and cross-covariance."""
+        n, k = len(self.state), len(mean)
+        new_cov = np.zeros((n + k, n + k))
+        new_cov[:n, :n] = self.state_cov
+        new_cov[n:, n:] = cov
+        new_cov[n:, :n] = cross
+        new_cov[:n, n:] = cross.T
+        self.state = np.concatenate([self.state, mean])
+        self.state_cov = new_cov
+        self._blocks[name] = (n, k)
 
+    def _remove(self, name):
+        start, size = self._blocks.pop(name)
+        keep = [i for i in range(len(self.state))
+                if not start <= i < start + size]
+        self.state = self.state[keep]
+        self.state_cov = self.state_cov[np.ix_(keep, keep)]
+        self._blocks = {b: (s - size if s > start else s, k)
+                        for b, (s, k) in self._blocks.items()}
+
+    def has_anchor(self, name='imu'):
+        return ('anchor', name) in self._blocks
+
+    def set_anchor(self, name='imu'):
+        """Measure sensor ``name``'s next change from the current pose."""
+        if self.has_anchor(name):
+            self._remove(('anchor', name))
+        self._append(('anchor', name), self.state[0:3].copy(),
+                     self.state_cov[0:3, 0:3].copy(),
+                     self.state_cov[0:3, :].copy())
+
+    def drop_anchor(self, name='imu'):
+        """Forget sensor ``name``'s anchor (it is gone); updates need a new one."""
+        if self.has_anchor(name):
+            self._remove(('anchor', name))
+
+    def _anchor_index(self, name):
+        if not self.has_anchor(name):
+            raise RuntimeError('an update from %s needs its anchor' % name)
+        return self._blocks[('anchor', name)][0]
+
+    # -- predict and update ---------------------------------------------------
     def predict(self, increment, increment_cov):
         """Move by body-frame ``increment`` (dx, dy, dyaw) with covariance."""
-        x, y, yaw = self.mean
+        x, y, yaw = self.state[0:3]
         ux, uy, uyaw = increment
         c, s = math.cos(yaw), math.sin(yaw)
-        jac_state = np.array([[1.0, 0.0, -s * ux - c * uy],
-                              [0.0, 1.0, c * ux - s * uy],
-                              [0.0, 0.0, 1.0]])
-        jac_motion = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-        self.mean = np.array([x + c * ux - s * uy, y + s * ux + c * uy,
-                              yaw + uyaw])
-        self.cov = (jac_state @ self.cov @ jac_state.T
-                    + jac_motion @ floored(increment_cov) @ jac_motion.T)
-        if self._anchor is not None:
-            a_mean, a_cov, cross = self._anchor
-            self._anchor = (a_mean, a_cov, cross @ jac_state.T)
+        n = len(self.state)
+        jac_state = np.eye(n)
+        jac_state[0, 2] = -s * ux - c * uy
+        jac_state[1, 2] = c * ux - s * uy
+        jac_motion = np.zeros((n, 3))
+        jac_motion[0:3, 0:3] = [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
+        self.state[0:3] = (x + c * ux - s * uy, y + s * ux + c * uy, yaw + uyaw)
+        self.state_cov = (jac_state @ self.state_cov @ jac_state.T
+                          + jac_motion @ floored(increment_cov) @ jac_motion.T)
 
-    def update_yaw_increment(self, dyaw, variance):
+    def _update(self, jac, innovation, noise):
+        """Kalman update of the whole state: ``jac`` (m x n), noise (m x m)."""
+        cov = self.state_cov
+        gain_num = cov @ jac.T
+        s = jac @ gain_num + floored(noise)
+        gain = np.linalg.solve(s.T, gain_num.T).T  # gain_num @ inv(s)
+        self.state = self.state + gain @ innovation
+        cov = cov - gain @ s @ gain.T
+        self.state_cov = 0.5 * (cov + cov.T)
+
+    def update_yaw_increment(self, dyaw, variance, name='imu'):
         """Fuse a measured yaw change ``dyaw`` since the anchor; re-anchor."""
-        if self._anchor is None:
-            raise RuntimeError('update_yaw_increment needs an anchor')
-        a_mean, a_cov, cross = self._anchor
-        mean = np.concatenate([a_mean, self.mean])
-        cov = np.block([[a_cov, cross], [cross.T, self.cov]])
-        h = np.array([0.0, 0.0, -1.0, 0.0, 0.0, 1.0])
-        innovation = normalize_angle(dyaw - h @ mean)
-        gain_num = cov @ h
-        s = h @ gain_num + max(float(variance), MIN_VARIANCE)
-        gain = gain_num / s
-        mean = mean + gain * innovation
-        cov = cov - np.outer(gain, gain) * s
-        self.mean = mean[3:]
-        self.cov = 0.5 * (cov[3:, 3:] + cov[3:, 3:].T)
-        self.set_anchor()
+        a = self._anchor_index(name)
+        jac = np.zeros((1, len(self.state)))
+        jac[0, 2], jac[0, a + 2] = 1.0, -1.0
+        innovation = normalize_angle(dyaw - (self.state[2] - self.state[a + 2]))
+        self._update(jac, np.array([innovation]),
+                     [[max(float(variance), MIN_VARIANCE)]])
+        self.set_anchor(name)
+
+    def update_pose_increment(self, increment, increment_cov, name='vo'):
+        """Fuse a measured body-frame motion since the anchor; re-anchor.
+
+        ``increment`` is ``(dx, dy, dyaw)`` in the frame of the anchor pose,
+        as :func:`odom_increment` gives it for two poses of the sensor.
+        """
+        a = self._anchor_index(name)
+        ax, ay, ayaw = self.state[a:a + 3]
+        x, y, yaw = self.state[0:3]
+        c, s = math.cos(ayaw), math.sin(ayaw)
+        dx, dy = x - ax, y - ay
+        predicted = np.array([c * dx + s * dy, -s * dx + c * dy, yaw - ayaw])
+        jac = np.zeros((3, len(self.state)))
+        jac[0:3, 0:3] = [[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]]
+        jac[0:3, a:a + 3] = [[-c, -s, -s * dx + c * dy],
+                             [s, -c, -c * dx - s * dy],
+                             [0.0, 0.0, -1.0]]
+        innovation = np.asarray(increment, dtype=float) - predicted
+        innovation[2] = normalize_angle(innovation[2])
+        self._update(jac, innovation, increment_cov)
+        self.set_anchor(name)
+
+    def add_offset(self, position, position_cov):
+        """Start the GPS offset from a first fix: offset = fix - position.
+
+        The fix's frame is assumed to have the output frame's axes; only its
+        origin is unknown. The first fix says nothing about the pose: it
+        fixes where the GPS frame's origin lies, with the fix's and the
+        pose's uncertainties together.
+        """
+        if 'offset' in self._blocks:
+            raise RuntimeError('the GPS offset is already in the state')
+        mean = np.asarray(position, dtype=float) - self.state[0:2]
+        cov = floored(position_cov) + self.state_cov[0:2, 0:2]
+        self._append('offset', mean, cov, -self.state_cov[0:2, :])
+
+    def update_position(self, position, position_cov):
+        """Fuse an absolute fix: ``position`` = pose x, y + GPS offset."""
+        if 'offset' not in self._blocks:
+            raise RuntimeError('update_position needs add_offset first')
+        o, _ = self._blocks['offset']
+        jac = np.zeros((2, len(self.state)))
+        jac[0, 0] = jac[1, 1] = jac[0, o] = jac[1, o + 1] = 1.0
+        predicted = self.state[0:2] + self.state[o:o + 2]
+        self._update(jac, np.asarray(position, dtype=float) - predicted,
+                     position_cov)
 
 
 class SensorWatch(object):
@@ -168,12 +293,15 @@ class SensorWatch(object):
         self.name = name
         self.timeout = float(timeout)
         self.last_seen = None
+        self.last_stamp = None
         self.active = False
         self.ever_active = False
+        self.lost_at = None
 
-    def seen(self, now):
+    def seen(self, now, stamp=None):
         """Record a message received at time ``now`` (seconds)."""
         self.last_seen = now
+        self.last_stamp = stamp
 
     def check(self, now):
         """Update :attr:`active`; return 'started', 'back', 'lost' or None."""
@@ -181,13 +309,23 @@ class SensorWatch(object):
                  and now - self.last_seen <= self.timeout)
         if fresh and not self.active:
             self.active = True
+            self.lost_at = None
             event = 'back' if self.ever_active else 'started'
             self.ever_active = True
             return event
         if self.active and not fresh:
             self.active = False
+            self.lost_at = now
             return 'lost'
         return None
+
+    def describe(self, now):
+        """'active', 'waiting (never received)' or 'dropped (...)'."""
+        if self.active:
+            return 'active'
+        if self.last_seen is None:
+            return 'waiting (no message received yet)'
+        return 'dropped (no message for %.2f s)' % (now - self.last_seen)
 
 
 class _Reading(object):
@@ -197,35 +335,63 @@ class _Reading(object):
         self.stamp, self.value, self.cov, self.seq = stamp, value, cov, seq
 
 
+#: Every sensor the filter knows, in robot_pose_ekf's order.
+SENSORS = ('odom', 'imu', 'vo', 'gps')
+#: Sensors whose motion can drive the prediction, by preference.
+_MOTION_SOURCES = ('odom', 'vo')
+#: What each sensor measures, for the status text.
+SENSOR_KINDS = {'odom': 'wheel odometry, relative pose',
+                'imu': 'gyro yaw, relative',
+                'vo': 'visual odometry, relative pose',
+                'gps': 'absolute x, y'}
+
+
 class GyroOdomFusion(object):
     """The whole robot_pose_ekf-like fusion, fed plain values.
 
-    Call :meth:`add_odom` / :meth:`add_imu` per message and :meth:`step` at
-    the filter rate. :meth:`step` returns log events ``(level, text)``;
-    after it, :attr:`estimate` is ``(stamp, pose, cov3)`` or None, and
-    :attr:`updated` says whether this step fused new data. Should a step
-    ever leave a non-finite estimate, the filter :meth:`restart` s (with a
-    warning event) instead of reporting it.
+    Sensors: wheel odometry (``odom``), a gyro's yaw (``imu``), visual
+    odometry (``vo``) and GPS (``gps``). The first active of odometry and
+    visual odometry drives the prediction with its increments; the gyro and
+    (while odometry drives) visual odometry are fused as relative
+    measurements of the motion since their previous update; GPS fixes are
+    absolute x, y measurements in a frame whose origin the filter learns
+    from the first fix (z is ignored, the axes are taken to be the output
+    frame's).
+
+    Call :meth:`add_odom` / :meth:`add_imu` / :meth:`add_vo` /
+    :meth:`add_gps` per message and :meth:`step` at the filter rate.
+    :meth:`step` returns log events ``(level, text)``; after it,
+    :attr:`estimate` is ``(stamp, pose, cov3)`` or None, and :attr:`updated`
+    says whether this step fused new data. Should a step ever leave a
+    non-finite estimate, the filter :meth:`restart` s (with a warning event)
+    instead of reporting it.
     """
 
-    def __init__(self, odom_used=True, imu_used=True, sensor_timeout=1.0):
-        if not (odom_used or imu_used):
-            raise ValueError('at least one of odom_used and imu_used is needed')
+    def __init__(self, odom_used=True, imu_used=True, sensor_timeout=1.0,
+                 vo_used=False, gps_used=False):
+        if not (odom_used or imu_used or vo_used):
+            raise ValueError('at least one of odom_used, imu_used and vo_used '
+                             'is needed (GPS alone gives no heading)')
         self.odom_used, self.imu_used = bool(odom_used), bool(imu_used)
+        self.vo_used, self.gps_used = bool(vo_used), bool(gps_used)
         self.sensor_timeout = sensor_timeout
         self._seq = 0
+        self.started_at = None  # time of the first step: start-up
+        self._silent_reported = set()
+        self.restarts = 0
         self.restart()
 
     def restart(self):
         """Forget the estimate and every reading received so far.
 
         The filter starts again like a new one: from the next odometry
-        message (without odometry, from the next IMU message).
+        message (without odometry, from the next visual odometry or IMU
+        message).
         """
         self.watches = {name: SensorWatch(name, self.sensor_timeout)
-                        for name in ('odom', 'imu')}
-        self._latest = {'odom': None, 'imu': None}
-        self._ref = {'odom': None, 'imu': None}
+                        for name in SENSORS}
+        self._latest = dict.fromkeys(SENSORS)
+        self._ref = dict.fromkeys(SENSORS)
         self._last_predict = None
         self.ekf = None
         self.stamp = None
@@ -233,11 +399,12 @@ class GyroOdomFusion(object):
 
     @property
     def estimate(self):
-        """``(stamp, (x, y, yaw), cov3)`` or None before the first odometry."""
+        """``(stamp, (x, y, yaw), cov3)`` or None before the filter starts."""
         if self.ekf is None:
             return None
         return self.stamp, self.ekf.pose, self.ekf.cov.copy()
 
+    # -- input ----------------------------------------------------------------
     def add_odom(self, now, stamp, pose, cov3):
         """An odometry pose ``(x, y, yaw)`` with its 3x3 covariance.
 
@@ -245,13 +412,15 @@ class GyroOdomFusion(object):
         a position beyond :data:`MAX_POSITION` or a covariance entry beyond
         :data:`MAX_VARIANCE`.
         """
-        x, y, yaw = (float(v) for v in pose)
-        if not all(math.isfinite(v) for v in (x, y, yaw)):
-            raise ValueError('odometry pose has a NaN or infinite component')
-        if max(abs(x), abs(y)) > MAX_POSITION:
-            raise ValueError('odometry position (%g, %g) is absurd: more than '
-                             '%g m from the origin' % (x, y, MAX_POSITION))
-        self._add('odom', now, stamp, (x, y, normalize_angle(yaw)),
+        self._add('odom', now, stamp, _checked_pose(pose, 'odometry'),
+                  _checked_cov(cov3))
+
+    def add_vo(self, now, stamp, pose, cov3):
+        """A visual odometry pose ``(x, y, yaw)`` with its 3x3 covariance.
+
+        Checked like :meth:`add_odom`; fused through its own increments.
+        """
+        self._add('vo', now, stamp, _checked_pose(pose, 'visual odometry'),
                   _checked_cov(cov3))
 
     def add_imu(self, now, stamp, yaw, variance):
@@ -261,62 +430,131 @@ class GyroOdomFusion(object):
         self._add('imu', now, stamp, normalize_angle(yaw),
                   _checked_cov([[variance]])[0, 0])
 
+    def add_gps(self, now, stamp, position, cov2):
+        """A GPS fix ``(x, y)`` in metres with its 2x2 covariance.
+
+        Checked like :meth:`add_odom` (finite, within :data:`MAX_POSITION`,
+        covariance entries at most :data:`MAX_VARIANCE`).
+        """
+        x, y = (float(v) for v in position)
+        if not (math.isfinite(x) and math.isfinite(y)):
+            raise ValueError('GPS position has a NaN or infinite component')
+        if max(abs(x), abs(y)) > MAX_POSITION:
+            raise ValueError('GPS position (%g, %g) is absurd: more than %g m '
+                             'from the origin' % (x, y, MAX_POSITION))
+        self._add('gps', now, stamp, (x, y), _checked_cov(cov2))
+
     def _add(self, name, now, stamp, value, cov):
-        if not getattr(self, name + '_used'):
+        if not self.used(name):
             return
         self._seq += 1
         self._latest[name] = _Reading(stamp, value, cov, self._seq)
-        self.watches[name].seen(now)
+        self.watches[name].seen(now, stamp)
+
+    def used(self, name):
+        """Whether sensor ``name`` is used (its ``<name>_used`` flag)."""
+        return getattr(self, name + '_used')
 
     def _used(self):
-        return [n for n in ('odom', 'imu') if getattr(self, n + '_used')]
+        return [n for n in SENSORS if self.used(n)]
+
+    # -- the filter step ------------------------------------------------------
+    def _driver(self, active):
+        """The sensor whose messages step the filter, or None."""
+        for name in _MOTION_SOURCES + ('imu',):
+            if name in active:
+                return name
+        return None
 
     def step(self, now):
         """Run one filter step at time ``now``; return log events.
 
         With odometry active the filter steps on each new odometry message
-        (the gyro's change since its last fused reading is fused with it);
-        without odometry it steps on each new IMU message.
+        (the other sensors' news is fused with it); without odometry on
+        each new visual odometry message, and without either on each new
+        IMU message.
         """
+        if self.started_at is None:
+            self.started_at = now
         events = self._check_sensors(now)
         self.updated = False
         active = [n for n in self._used() if self.watches[n].active]
         if self.ekf is None:
             self._last_predict = now
             return events + self._try_start(active)
-        fresh = [n for n in active
-                 if self._latest[n].seq != self._ref[n].seq]
-        driver = 'odom' if 'odom' in active else 'imu'
-        if driver not in fresh:
+        driver = self._driver(active)
+        if driver is None or not self._fresh(driver):
             return events
+        fresh = [n for n in active if self._fresh(n)]
         try:
             with np.errstate(over='ignore', invalid='ignore'):
-                self._fuse(now, fresh)
-        except ValueError as err:
+                events += self._fuse(now, driver, active, fresh)
+        except (ValueError, np.linalg.LinAlgError) as err:
             self.restart()
+            self.restarts += 1
             return events + [('warn', 'filter restarted: %s; it starts again '
                               'from the next %s message' % (
-                                  err, 'odometry' if self.odom_used else 'IMU'))]
+                                  err, self._start_sensor_text()))]
         self._advance_stamp(active)
         return events
 
-    def _fuse(self, now, fresh):
-        """Predict to ``now``; fuse the gyro's change if it is fresh."""
-        self._predict(max(now - self._last_predict, 0.0))
+    def _fresh(self, name):
+        ref = self._ref[name]
+        return ref is None or self._latest[name].seq != ref.seq
+
+    def _start_sensor_text(self):
+        if self.odom_used:
+            return 'odometry'
+        return 'visual odometry' if self.vo_used else 'IMU'
+
+    def _fuse(self, now, driver, active, fresh):
+        """Predict to ``now`` with the driver; fuse the others' news."""
+        events = []
+        self._predict(driver, max(now - self._last_predict, 0.0))
         self._last_predict = now
         self._check_finite()
-        if 'imu' in fresh:
-            reading = self._latest['imu']
-            self.ekf.update_yaw_increment(
-                normalize_angle(reading.value - self._ref['imu'].value),
-                reading.cov)
-            self._ref['imu'] = reading
+        for name in ('imu', 'vo'):
+            relative = name in active and (name == 'imu' or name != driver)
+            if not relative:
+                self.ekf.drop_anchor(name)
+                continue
+            reading = self._latest[name]
+            if not self.ekf.has_anchor(name) or self._ref[name] is None:
+                # A new anchor: measure from here on (e.g. visual odometry
+                # after odometry came back and took over the prediction).
+                self._ref[name] = reading
+                self.ekf.set_anchor(name)
+                continue
+            if name not in fresh:
+                continue
+            if name == 'imu':
+                self.ekf.update_yaw_increment(
+                    normalize_angle(reading.value - self._ref[name].value),
+                    reading.cov, name)
+            else:
+                self.ekf.update_pose_increment(
+                    odom_increment(self._ref[name].value, reading.value),
+                    reading.cov, name)
+            self._ref[name] = reading
             self._check_finite()
+        if 'gps' in fresh:
+            reading = self._latest['gps']
+            if self.ekf.offset is None:
+                self.ekf.add_offset(reading.value, reading.cov)
+                ox, oy, _ = self.ekf.offset
+                events.append(('info', 'gps: first fix (%.3f, %.3f); the GPS '
+                               'frame origin is at (%.3f, %.3f) in the output '
+                               'frame' % (reading.value + (-ox, -oy))))
+            else:
+                self.ekf.update_position(reading.value, reading.cov)
+            self._ref['gps'] = reading
+            self._check_finite()
+        return events
 
     def _check_finite(self):
         """ValueError unless the filter's mean and covariance are finite."""
-        if not (np.all(np.isfinite(self.ekf.mean))
-                and np.all(np.isfinite(self.ekf.cov))):
+        if not (np.all(np.isfinite(self.ekf.state))
+                and np.all(np.isfinite(self.ekf.state_cov))):
             raise ValueError('the estimate is no longer finite')
 
     def _check_sensors(self, now):
@@ -326,51 +564,59 @@ class GyroOdomFusion(object):
             change = self.watches[name].check(now)
             if change == 'lost':
                 self._ref[name] = None
-                if name == 'imu' and self.ekf is not None:
-                    self.ekf.drop_anchor()
+                if self.ekf is not None:
+                    self.ekf.drop_anchor(name)
                 events.append(('warn', '%s timed out: no message for %.2f s; '
                                'fusing without it' % (
                                    name, self.watches[name].timeout)))
             elif change in ('started', 'back'):
                 # A returning sensor starts a new reference: its jump while
-                # away (e.g. a restarted driver) is never fused.
-                self._ref[name] = self._latest[name]
-                if name == 'imu' and self.ekf is not None:
-                    self.ekf.set_anchor()
+                # away (e.g. a restarted driver) is never fused. GPS is
+                # absolute: its frame origin stays valid.
+                self._ref[name] = (None if name == 'gps'
+                                   else self._latest[name])
+                if name in ('imu', 'vo') and self.ekf is not None:
+                    self.ekf.set_anchor(name)
                 if change == 'back':
                     events.append(('info', '%s is back; fusing it again'
                                    % name))
         return events
 
     def _try_start(self, active):
-        """Start at the first odometry (or, without odometry, the first IMU)."""
-        if self.odom_used:
-            if 'odom' not in active:
+        """Start at the first odometry (else visual odometry, else IMU)."""
+        source = next((n for n in _MOTION_SOURCES if self.used(n)), None)
+        if source is not None:
+            if source not in active:
                 return []
-            first = self._latest['odom']
-            self.ekf = PlanarEkf(first.value, first.cov)
-            where = 'the first odometry pose'
+            first = self._latest[source]
+            self.ekf = PlanarEkf(first.value, first.cov, anchors=())
+            where = 'the first %s pose' % (
+                'odometry' if source == 'odom' else 'visual odometry')
         else:
             if 'imu' not in active:
                 return []
-            self.ekf = PlanarEkf((0.0, 0.0, 0.0), np.zeros((3, 3)))
+            self.ekf = PlanarEkf((0.0, 0.0, 0.0), np.zeros((3, 3)), anchors=())
             where = 'the origin (no odometry used)'
         for name in active:
             self._ref[name] = self._latest[name]
+            if name == 'imu' or (name == 'vo' and source != 'vo'):
+                self.ekf.set_anchor(name)
+        if 'gps' in active:
+            self._ref['gps'] = None  # the first fix places the GPS frame
         self._advance_stamp(active)
         x, y, yaw = self.ekf.pose
         return [('info', 'filter started at %s: x=%.3f y=%.3f yaw=%.3f'
                  % (where, x, y, yaw))]
 
-    def _predict(self, dt):
-        """Predict with the odometry increment, or 'no motion' without it."""
-        odom = self._latest['odom']
-        if self.watches['odom'].active:
-            increment = odom_increment(self._ref['odom'].value, odom.value)
+    def _predict(self, driver, dt):
+        """Predict with the driver's increment, or 'no motion' without one."""
+        if driver in _MOTION_SOURCES:
+            reading = self._latest[driver]
+            increment = odom_increment(self._ref[driver].value, reading.value)
             at_rest = max(abs(v) for v in increment) < AT_REST
             self.ekf.predict(increment, np.zeros((3, 3)) if at_rest
-                             else odom.cov)
-            self._ref['odom'] = odom
+                             else reading.cov)
+            self._ref[driver] = reading
         else:
             self.ekf.predict((0.0, 0.0, 0.0),
                              np.diag(NO_ODOM_VARIANCE_RATE * max(dt, 1e-3)))
@@ -381,6 +627,148 @@ class GyroOdomFusion(object):
         if self.stamp is None or stamp > self.stamp:
             self.stamp = stamp
             self.updated = True
+
+    # -- start-up checks and status -------------------------------------------
+    def silent_sensors(self, now):
+        """Used sensors with no message ``sensor_timeout`` after start-up.
+
+        Start-up is the first :meth:`step`. Each sensor is returned once,
+        at the first call past that time; the caller warns about it.
+        """
+        if self.started_at is None or now - self.started_at < self.sensor_timeout:
+            return []
+        silent = [n for n in self._used() if n not in self._silent_reported
+                  and self.watches[n].last_seen is None]
+        self._silent_reported.update(silent)
+        return silent
+
+    def state(self):
+        """'waiting for odom, imu', 'running' or 'running; dropped: imu'."""
+        used = self._used()
+        if self.ekf is None:
+            source = next((n for n in _MOTION_SOURCES if self.used(n)), 'imu')
+            missing = [n for n in used if not self.watches[n].active]
+            return 'waiting for %s to start (no data yet from: %s)' % (
+                source, ', '.join(missing) or 'none')
+        dropped = [n for n in used if self.watches[n].ever_active
+                   and not self.watches[n].active]
+        waiting = [n for n in used if not self.watches[n].ever_active]
+        text = 'running'
+        if dropped:
+            text += '; dropped: ' + ', '.join(dropped)
+        if waiting:
+            text += '; never received: ' + ', '.join(waiting)
+        return text
+
+    def status_text(self, now, topics=None):
+        """A human-readable status: state, each sensor, the estimate.
+
+        ``topics`` maps sensor names to the topics they are read from.
+        """
+        topics = topics or {}
+        lines = ['state: ' + self.state()]
+        for name in SENSORS:
+            where = ' on %s' % topics[name] if name in topics else ''
+            if not self.used(name):
+                lines.append('%s%s: not used' % (name, where))
+                continue
+            watch = self.watches[name]
+            line = '%s%s (%s): %s' % (name, where, SENSOR_KINDS[name],
+                                      watch.describe(now))
+            if watch.last_seen is not None:
+                line += ', last stamp %.3f, received %.2f s ago' % (
+                    watch.last_stamp if watch.last_stamp is not None
+                    else float('nan'), now - watch.last_seen)
+            lines.append(line)
+        if self.ekf is None:
+            lines.append('estimate: none yet')
+        else:
+            x, y, yaw = self.ekf.pose
+            lines.append('estimate at stamp %.3f: x=%.3f m y=%.3f m yaw=%.4f '
+                         'rad' % (self.stamp, x, y, yaw))
+            lines.append('covariance (x, y, yaw): %s' % _matrix_text(
+                self.ekf.cov))
+            offset = self.ekf.offset
+            if offset is not None:
+                lines.append('gps frame origin in the output frame: (%.3f, '
+                             '%.3f) m, sd (%.3f, %.3f) m' % (
+                                 -offset[0], -offset[1],
+                                 math.sqrt(max(offset[2][0, 0], 0.0)),
+                                 math.sqrt(max(offset[2][1, 1], 0.0))))
+        lines.append('sensor_timeout %.3g s; filter restarts: %d'
+                     % (self.sensor_timeout, self.restarts))
+        return '\n'.join(lines)
+
+
+def _matrix_text(matrix):
+    return '[' + '; '.join(' '.join('%.3g' % v for v in row)
+                           for row in np.asarray(matrix)) + ']'
+
+
+def silent_sensor_text(name, topic, timeout, publishers):
+    """The warning for a used sensor that never sent a message.
+
+    ``publishers`` lists the nodes that publish ``topic`` (from the
+    master), or is None when the master could not be asked.
+    """
+    text = ('%s_used is true but no message came on %s within %.3g s of '
+            'start-up; ' % (name, topic, timeout))
+    if publishers is None:
+        return text + 'could not ask the master who publishes it'
+    if not publishers:
+        return text + ('nothing publishes %s: start the driver, or remap '
+                       '%s to the topic it publishes, or set ~%s_used false'
+                       % (topic, name if name != 'imu' else 'imu_data', name))
+    return text + ('%s publishes it but sent nothing: check that node (a '
+                   'sensor not yet started? a wrong message type?)'
+                   % ', '.join(sorted(publishers)))
+
+
+class OtherPublisherWatch(object):
+    """Spots another node publishing the transform this node publishes.
+
+    :meth:`seen` is called for each tf message carrying our child frame
+    from another node; it returns True when an error is due: at once for
+    a new publisher, then every ``period`` seconds while it lasts.
+    :meth:`gone` returns the publishers not heard for ``quiet`` seconds
+    (each once), so the caller can say the conflict ended.
+    """
+
+    def __init__(self, period=30.0, quiet=5.0):
+        self.period, self.quiet = float(period), float(quiet)
+        self._last_seen = {}
+        self._last_report = {}
+
+    def seen(self, caller, now):
+        self._last_seen[caller] = now
+        last = self._last_report.get(caller)
+        if last is None or now - last >= self.period or now < last:
+            self._last_report[caller] = now
+            return True
+        return False
+
+    def gone(self, now):
+        ended = [c for c, t in self._last_seen.items() if now - t > self.quiet]
+        for caller in ended:
+            del self._last_seen[caller]
+            self._last_report.pop(caller, None)
+        return ended
+
+    @property
+    def publishers(self):
+        """Other publishers heard within ``quiet`` s, in name order."""
+        return sorted(self._last_seen)
+
+
+def other_publisher_text(caller, parent, child, topic):
+    """The error logged while another node publishes our transform."""
+    return ('node %s also publishes the transform %s -> %s on %s; with two '
+            'publishers the robot\'s pose jumps between them. Fix: turn off '
+            'that node\'s tf (a TurtleBot driver or fake_turtlebot: '
+            'publish_tf: false), or give pose_ekf other frames '
+            '(~output_frame, ~base_footprint_frame), or run pose_ekf as an '
+            'estimator only (~publish_tf false)' % (caller, parent, child,
+                                                     topic))
 
 
 def is_finite_estimate(estimate):
@@ -393,6 +781,17 @@ def is_finite_estimate(estimate):
     _, pose, cov3 = estimate
     return (all(math.isfinite(v) for v in pose)
             and bool(np.all(np.isfinite(cov3))))
+
+
+def _checked_pose(pose, what):
+    """``pose`` as floats with a normalised yaw; ValueError if unusable."""
+    x, y, yaw = (float(v) for v in pose)
+    if not all(math.isfinite(v) for v in (x, y, yaw)):
+        raise ValueError('%s pose has a NaN or infinite component' % what)
+    if max(abs(x), abs(y)) > MAX_POSITION:
+        raise ValueError('%s position (%g, %g) is absurd: more than '
+                         '%g m from the origin' % (what, x, y, MAX_POSITION))
+    return x, y, normalize_angle(yaw)
 
 
 def _checked_cov(cov):

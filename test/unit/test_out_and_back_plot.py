@@ -3,7 +3,8 @@ import math
 
 import pytest
 
-from rbx1_nav.course_plot import Track, describe_error, end_error, plot_course
+from rbx1_nav.course_plot import (Track, describe_error, describe_final_offset,
+                                  end_error, final_offset, plot_course)
 
 
 def square_track(name, end_offset=(0.0, 0.0, 0.0)):
@@ -58,3 +59,23 @@ def test_plot_skips_empty_tracks_like_a_bag_without_ground_truth(tmp_path):
 def test_plot_refuses_when_nothing_to_draw(tmp_path):
     with pytest.raises(ValueError, match='nothing to plot'):
         plot_course([Track('odom')], str(tmp_path / 'x.png'))
+
+
+def test_final_offset_against_a_reference_track():
+    truth = square_track('ground truth')
+    fused = square_track('fused', (0.03, 0.04, 0.0))
+    assert final_offset(fused, truth) == pytest.approx(0.05)
+    assert describe_final_offset(fused, truth) == (
+        'fused: 50.0 mm from ground truth')
+    with pytest.raises(ValueError):
+        final_offset(Track('fused'), truth)
+
+
+def test_plot_with_a_fused_track_gives_distances_from_the_truth(tmp_path):
+    pytest.importorskip('matplotlib')
+    truth = square_track('ground truth')
+    title = plot_course([square_track('odom', (0.3, 0.0, 0.0)), truth,
+                         square_track('fused', (0.0, 0.02, 0.0))],
+                        str(tmp_path / 'fused.png'), reference=truth)
+    assert title.splitlines()[2] == ('at the end: odom: 300.0 mm from ground '
+                                     'truth; fused: 20.0 mm from ground truth')

@@ -96,6 +96,16 @@ def start_node(name, specs, doc):
     return values
 
 
+def until_shutdown(loop):
+    """Run a node's main ``loop``; a publish that shutdown closed under it
+    (a signal shuts rospy down in another thread) ends it quietly."""
+    try:
+        loop()
+    except rospy.ROSException:
+        if not rospy.core.is_shutdown_requested():
+            raise
+
+
 def exit_node(name, status):
     """Shut rospy down and exit with ``status`` (the last line of a node)."""
     rospy.signal_shutdown('%s finished' % name)

@@ -1,0 +1,59 @@
+"""The README's node table lists exactly the parameters each node reads.
+
+Each node declares every private parameter it reads (``PARAMS``, a tuple of
+rbx1_nav.params.Param, read through rbx1_nav.ros.node.start_node), so the
+declaration is the truth; the README row of the node must name each of them
+in backticks, and no other. "and the runner's" in a row stands for the
+runner's row.
+"""
+import glob
+import importlib.util
+import os
+import re
+
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+NODES = sorted(p for p in glob.glob(os.path.join(ROOT, 'nodes', '*.py'))
+               if not p.endswith('plot_course.py'))  # argparse: --help
+
+
+def readme_rows():
+    """{first cell: set of backticked names in the last cell} of the table."""
+    rows = {}
+    with open(os.path.join(ROOT, 'README.md')) as f:
+        for line in f:
+            cells = [c.strip() for c in line.strip().strip('|').split('|')]
+            if len(cells) == 4 and cells[0].startswith('`') or \
+                    cells[0].startswith('the runner'):
+                names = set(re.findall(r'`([a-z][a-z0-9_]*)`', cells[-1]))
+                if "the runner's" in cells[-1]:
+                    names.add("the runner's")
+                rows[cells[0].strip('`')] = names
+    runner = rows.get("the runner's (every node above)", set())
+    for names in rows.values():
+        if "the runner's" in names:
+            names.discard("the runner's")
+            names |= runner
+    return rows
+
+
+def declared(path):
+    spec = importlib.util.spec_from_file_location(
+        'node_' + os.path.basename(path)[:-3], path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    assert hasattr(module, 'PARAMS'), '%s declares no PARAMS' % path
+    return {p.name for p in module.PARAMS}
+
+
+@pytest.mark.parametrize('path', NODES, ids=[os.path.basename(p) for p in NODES])
+def test_readme_row_names_every_parameter_and_no_other(path):
+    node = os.path.basename(path)
+    rows = readme_rows()
+    assert node in rows, 'README.md has no node-table row for %s' % node
+    code, readme = declared(path), rows[node]
+    assert not code - readme, 'read by %s, missing from README.md: %s' % (
+        node, sorted(code - readme))
+    assert not readme - code, 'in README.md, read by no %s: %s' % (
+        node, sorted(readme - code))

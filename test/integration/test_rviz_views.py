@@ -1,0 +1,147 @@
+"""RViz for real, under Xvfb, with both of the package's views.
+
+Each case starts a virtual screen, a simulated robot (realistic, so odometry
+and ground truth drift apart) and RViz with one config, drives a short
+out-and-back course, and takes a screenshot (kept in the workspace's
+test_artifacts/). It passes when the screenshot shows the config's arrows:
+the odometry (sim.rviz: red /odom; nav_ekf.rviz: green /odom_ekf) and the
+ground truth (blue, both views), counted inside the 3D view, and RViz
+logged no error.
+"""
+import os
+import socket
+import subprocess
+import time
+
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+# Arrow colours of the configs, as RViz shades them on a dark background:
+# the pixel counts of each must pass MIN_PIXELS.
+RED = lambda r, g, b: r > 170 and g < 90 and b < 70             # noqa: E731
+GREEN = lambda r, g, b: g > 140 and r < 90 and b < 110           # noqa: E731
+BLUE = lambda r, g, b: b > 170 and r < 60 and 80 < g < 200       # noqa: E731
+MIN_PIXELS = 150
+BACKGROUND = (48, 48, 48)  # the configs' 3D view background
+
+
+def view_of(shot):
+    """The 3D view of a screenshot: the box around its background pixels
+    (so the panels' blue and red text cannot pass for arrows)."""
+    width = shot.width
+    where = [i for i, p in enumerate(shot.getdata()) if p == BACKGROUND]
+    assert where, 'no 3D view (background %s) on the screen' % (BACKGROUND,)
+    xs = [i % width for i in where]
+    return shot.crop((min(xs), where[0] // width, max(xs) + 1,
+                      where[-1] // width + 1))
+
+CASES = {
+    'sim.rviz': ('fake_turtlebot.launch', {'odometry (red)': RED,
+                                           'ground truth (blue)': BLUE}),
+    'nav_ekf.rviz': ('fake_turtlebot_ekf.launch', {'EKF odometry (green)': GREEN,
+                                                   'ground truth (blue)': BLUE}),
+}
+
+
+def workspace():
+    for prefix in os.environ.get('CMAKE_PREFIX_PATH', '').split(':'):
+        if prefix.endswith('/devel'):
+            return os.path.dirname(prefix)
+    pytest.skip('not run from a sourced catkin devel space')
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(('localhost', 0))
+        return s.getsockname()[1]
+
+
+def free_display():
+    for number in range(90, 190):
+        if not os.path.exists('/tmp/.X%d-lock' % number):
+            return number
+    pytest.skip('no free X display number')
+
+
+def wait_for(predicate, seconds):
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        if predicate():
+            return True
+        time.sleep(0.1)
+    return False
+
+
+class Processes(object):
+    """Background processes, each logging to a file; all killed at the end."""
+
+    def __init__(self, env, logdir):
+        self.env, self.logdir, self.procs = env, logdir, []
+
+    def start(self, name, args):
+        log = open(os.path.join(self.logdir, name + '.log'), 'w')
+        proc = subprocess.Popen(args, env=self.env, stdout=log,
+                                stderr=subprocess.STDOUT, start_new_session=True)
+        self.procs.append(proc)
+        return proc
+
+    def log(self, name):
+        with open(os.path.join(self.logdir, name + '.log')) as f:
+            return f.read()
+
+    def stop(self):
+        for proc in reversed(self.procs):
+            if proc.poll() is None:
+                os.killpg(proc.pid, 2)  # SIGINT, as Ctrl-C
+                try:
+                    proc.wait(15)
+                except subprocess.TimeoutExpired:
+                    os.killpg(proc.pid, 9)
+                    proc.wait()
+
+
+@pytest.mark.parametrize('config', sorted(CASES))
+def test_rviz_draws_odometry_and_ground_truth(config, tmp_path):
+    image_grab = pytest.importorskip('PIL.ImageGrab')
+    if not os.path.exists('/usr/bin/Xvfb'):
+        pytest.skip('Xvfb is not installed (make deps installs it)')
+    launch, colours = CASES[config]
+    artifacts = os.path.join(workspace(), 'test_artifacts')
+    os.makedirs(artifacts, exist_ok=True)
+    display, port = free_display(), free_port()
+    env = dict(os.environ, DISPLAY=':%d' % display,
+               ROS_MASTER_URI='http://localhost:%d' % port,
+               LIBGL_ALWAYS_SOFTWARE='1', QT_X11_NO_MITSHM='1')
+    procs = Processes(env, str(tmp_path))
+    try:
+        procs.start('xvfb', ['Xvfb', ':%d' % display, '-screen', '0',
+                             '1280x800x24', '-nolisten', 'tcp'])
+        assert wait_for(lambda: os.path.exists('/tmp/.X11-unix/X%d' % display),
+                        10), 'Xvfb did not start'
+        procs.start('robot', ['roslaunch', '-p', str(port), 'rbx1_nav', launch,
+                              'sim_speed:=5', 'realistic:=true'])
+        rviz = procs.start('rviz', ['rviz', '-d', os.path.join(ROOT, 'rviz', config)])
+        course = subprocess.run(
+            ['rosrun', 'rbx1_nav', 'odom_out_and_back.py', '_goal_distance:=0.6',
+             '_pause:=0.2', '_tf_wait:=60', '_tf_timeout:=5'],
+            env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+            universal_newlines=True, timeout=180)
+        assert course.returncode == 0, course.stdout[-3000:]
+        time.sleep(3.0)  # let RViz draw the last arrows (wall time: a screen)
+        assert rviz.poll() is None, 'RViz exited:\n' + procs.log('rviz')
+        shot = image_grab.grab(xdisplay=':%d' % display)
+    finally:
+        procs.stop()
+    path = os.path.join(artifacts, 'rviz_%s.png' % config[:-len('.rviz')])
+    shot.save(path)
+    pixels = list(view_of(shot.convert('RGB')).getdata())
+    counts = {name: sum(1 for p in pixels if match(*p))
+              for name, match in colours.items()}
+    print('RESULT %s: %s; screenshot %s' % (config, counts, path))
+    rviz_log = procs.log('rviz')
+    errors = [line for line in rviz_log.splitlines() if '[ERROR]' in line]
+    assert not errors, 'RViz logged errors:\n' + '\n'.join(errors)
+    for name, count in counts.items():
+        assert count >= MIN_PIXELS, '%s not drawn (%d pixels) in %s' % (
+            name, count, path)

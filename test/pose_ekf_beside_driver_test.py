@@ -1,0 +1,181 @@
+#!/usr/bin/env python3
+"""rostest: pose_ekf beside a driver that publishes its transform too, and
+a sensor that never comes (pose_ekf_beside_driver.test).
+
+The test starts each pose_ekf with rosrun and reads its output, so it sees
+every line from the first, each with the ROS time it was logged at
+(simulated seconds); delays are measured from pose_ekf's start-up line.
+"""
+import re
+import subprocess
+import threading
+import unittest
+
+import rospy
+import rostest
+from geometry_msgs.msg import PoseWithCovarianceStamped
+from std_srvs.srv import Trigger
+from tf2_msgs.msg import TFMessage
+
+START_LINE = ': output_frame '  # the start-up line with the parameters
+CONFLICT = 'also publishes the transform'
+# rospy's console format: "[LEVEL] [wall]: text" or "[LEVEL] [wall, ros]: text".
+LOG_LINE = re.compile(r'^\[\s*(\w+)\]\s*\[([\d.]+)(?:,\s*([\d.]+))?\]:\s?(.*)$')
+
+
+class EkfProcess(object):
+    """pose_ekf.py under rosrun; its log lines as (level, ROS time, text)."""
+
+    def __init__(self, ns, name, args):
+        self.name = '/%s/%s' % (ns, name)
+        self.lock = threading.Lock()
+        self.lines = []
+        self.proc = subprocess.Popen(
+            ['rosrun', 'rbx1_nav', 'pose_ekf.py', '__name:=' + name,
+             '__ns:=' + ns] + args.split(),
+            stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+            universal_newlines=True)
+        self.reader = threading.Thread(target=self._read, daemon=True)
+        self.reader.start()
+
+    def _read(self):
+        for raw in self.proc.stdout:
+            match = LOG_LINE.match(raw.rstrip())
+            if match:
+                level, wall, ros, text = match.groups()
+                with self.lock:
+                    self.lines.append((level, float(ros or wall), text))
+
+    def find(self, text, level=None):
+        with self.lock:
+            return [(lvl, t, line) for lvl, t, line in self.lines
+                    if text in line and (level is None or lvl == level)]
+
+    def wait_for(self, text, count=1, level=None, wall_limit=60.0):
+        """The first ``count`` lines with ``text``, waiting (wall) for them."""
+        for _ in range(int(wall_limit / 0.05)):
+            found = self.find(text, level)
+            if len(found) >= count or self.proc.poll() is not None:
+                break
+            rospy.rostime.wallsleep(0.05)
+        found = self.find(text, level)
+        if len(found) < count:
+            raise AssertionError('%s logged %d of %d lines with %r; output:\n%s'
+                                 % (self.name, len(found), count, text,
+                                    '\n'.join(l[2] for l in self.lines)))
+        return found[:count]
+
+    def close(self):
+        if self.proc.poll() is None:
+            self.proc.terminate()
+            self.proc.wait()
+
+
+class TfWatch(object):
+    """Callers of tf messages carrying ``child``, and odom_combined counts."""
+
+    def __init__(self, ns, child, ekf):
+        self.lock = threading.Lock()
+        self.child = child
+        self.callers = {}
+        self.combined = 0
+        rospy.Subscriber('/%s/tf' % ns, TFMessage, self.on_tf, queue_size=200)
+        rospy.Subscriber('/%s/%s/odom_combined' % (ns, ekf),
+                         PoseWithCovarianceStamped, self.on_combined)
+
+    def on_tf(self, msg):
+        caller = msg._connection_header['callerid']
+        with self.lock:
+            for tf in msg.transforms:
+                if tf.child_frame_id == self.child:
+                    self.callers[caller] = self.callers.get(caller, 0) + 1
+
+    def on_combined(self, _msg):
+        with self.lock:
+            self.combined += 1
+
+    def reset(self):
+        with self.lock:
+            self.callers, self.combined = {}, 0
+
+
+class PoseEkfBesideDriverTest(unittest.TestCase):
+
+    @classmethod
+    def setUpClass(cls):
+        get = rospy.get_param
+        cls.dup_ns, cls.est_ns = get('~dup_ns'), get('~estimator_ns')
+        cls.driver, ekf = get('~driver'), get('~ekf')
+        cls.wall = float(get('~timeout'))
+        cls.tf = TfWatch(cls.est_ns, 'base_footprint', ekf)
+        cls.dup = EkfProcess(cls.dup_ns, ekf, get('~dup_args'))
+        cls.est = EkfProcess(cls.est_ns, ekf, get('~estimator_args'))
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.dup.close()
+        cls.est.close()
+
+    def test_second_tf_publisher_is_named_and_repeated(self):
+        driver = '/%s/%s' % (self.dup_ns, self.driver)
+        within = float(rospy.get_param('~error_within'))
+        period = float(rospy.get_param('~repeat_period'))
+        tolerance = float(rospy.get_param('~repeat_tolerance'))
+        (_, start, _), = self.dup.wait_for(START_LINE, wall_limit=self.wall)
+        first, second = self.dup.wait_for(CONFLICT, 2, 'ERROR', self.wall)
+        delay, gap = first[1] - start, second[1] - first[1]
+        print('second tf publisher: error %.2f s after start-up, repeated '
+              'after %.2f s: %s' % (delay, gap, first[2]), flush=True)
+        self.assertIn('node %s also publishes' % driver, first[2])
+        self.assertIn('publish_tf: false', first[2])
+        self.assertLessEqual(delay, within)
+        self.assertLess(abs(gap - period), tolerance)
+
+    def test_estimator_only_leaves_tf_to_the_driver(self):
+        driver = '/%s/%s' % (self.est_ns, self.driver)
+        self.est.wait_for(START_LINE, wall_limit=self.wall)
+        for _ in range(int(self.wall / 0.05)):
+            if self.tf.combined or rospy.is_shutdown():
+                break
+            rospy.rostime.wallsleep(0.05)
+        self.assertGreater(self.tf.combined, 0, 'no odom_combined')
+        self.tf.reset()
+        rospy.sleep(float(rospy.get_param('~watch_time')))
+        with self.tf.lock:
+            callers, combined = dict(self.tf.callers), self.tf.combined
+        print('estimator only: base_footprint on tf from %s; %d odom_combined'
+              % (callers, combined), flush=True)
+        self.assertEqual(list(callers), [driver])
+        self.assertGreater(combined, 0)
+        self.assertEqual(self.est.find(CONFLICT), [])
+
+    def test_missing_sensor_is_named_with_its_topic(self):
+        topic = rospy.get_param('~missing_topic')
+        slack = float(rospy.get_param('~warning_slack'))
+        (_, start, _), = self.est.wait_for(START_LINE, wall_limit=self.wall)
+        timeout = float(rospy.get_param(self.est.name + '/sensor_timeout'))
+        text = 'no message came on %s' % topic
+        (level, stamp, line), = self.est.wait_for(text, wall_limit=self.wall)
+        delay = stamp - start
+        print('missing sensor: warning %.2f s after start-up (timeout %.1f s):'
+              ' %s' % (delay, timeout, line), flush=True)
+        self.assertEqual(level, 'WARN')
+        self.assertIn('nothing publishes %s' % topic, line)
+        self.assertLessEqual(delay, timeout + slack)
+        # The status service says what the filter waits for.
+        service = self.est.name + '/get_status'
+        rospy.wait_for_service(service, self.wall)
+        status = rospy.ServiceProxy(service, Trigger)().message
+        print('get_status:\n' + status, flush=True)
+        self.assertIn('state: running; never received: imu', status)
+        self.assertIn('imu on %s' % topic, status)
+        self.assertIn('odom on /%s/odom' % self.est_ns, status)
+        self.assertIn('covariance (x, y, yaw)', status)
+        self.assertIn('tf off', status)
+        self.assertEqual(len(self.est.find(text)), 1, 'warned more than once')
+
+
+if __name__ == '__main__':
+    rospy.init_node('pose_ekf_beside_driver_test')
+    rostest.rosrun('rbx1_nav', 'pose_ekf_beside_driver',
+                   PoseEkfBesideDriverTest)

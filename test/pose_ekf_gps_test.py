@@ -1,0 +1,101 @@
+#!/usr/bin/env python3
+"""rostest: GPS fusion ends the course closer to the truth than odometry + gyro.
+
+pose_ekf_gps.test drives the realistic fake robot over a 20 m course while
+two pose_ekf nodes estimate its pose: one from odometry and the gyro, one
+with GPS too. When the course node has exited and ~settle_time simulated seconds have
+passed with the robot at rest, this test compares each
+estimate's last position with the simulator's ground truth, prints both
+errors and asserts the ratio.
+"""
+import math
+import threading
+import unittest
+
+import rosgraph
+import rospy
+import rostest
+from geometry_msgs.msg import PoseWithCovarianceStamped
+from nav_msgs.msg import Odometry
+
+
+class Latest(object):
+    """The latest message on a topic, with the farthest excursion seen."""
+
+    def __init__(self, topic, msg_type):
+        self.lock = threading.Lock()
+        self.msg = None
+        self.first = None
+        self.farthest = 0.0
+        self.count = 0
+        rospy.Subscriber(topic, msg_type, self.on_msg, queue_size=50)
+
+    def on_msg(self, msg):
+        p = msg.pose.pose.position
+        with self.lock:
+            self.msg = msg
+            self.count += 1
+            if self.first is None:
+                self.first = (p.x, p.y)
+            self.farthest = max(self.farthest, math.hypot(
+                p.x - self.first[0], p.y - self.first[1]))
+
+    def position(self):
+        with self.lock:
+            p = self.msg.pose.pose.position
+            return p.x, p.y
+
+
+class PoseEkfGpsTest(unittest.TestCase):
+
+    def course_running(self, master, node):
+        publishers, subscribers, _ = master.getSystemState()
+        return any(node in nodes for _, nodes in publishers + subscribers)
+
+    def test_gps_fused_pose_ends_closer_to_the_truth(self):
+        timeout = rospy.Duration(float(rospy.get_param('~timeout')))
+        max_ratio = float(rospy.get_param('~max_error_ratio'))
+        min_excursion = float(rospy.get_param('~min_excursion'))
+        course = rospy.resolve_name(rospy.get_param('~course_node'))
+        truth = Latest('ground_truth', Odometry)
+        raw = Latest(rospy.get_param('~raw_topic'), PoseWithCovarianceStamped)
+        fused = Latest(rospy.get_param('~fused_topic'),
+                       PoseWithCovarianceStamped)
+        master = rosgraph.Master(rospy.get_name())
+        deadline = rospy.Time.now() + timeout
+        while truth.msg is None or not self.course_running(master, course):
+            self.assertLess(rospy.Time.now(), deadline,
+                            'no ground_truth or no course node')
+            rospy.sleep(0.2)
+        while self.course_running(master, course) and not rospy.is_shutdown():
+            self.assertLess(rospy.Time.now(), deadline,
+                            'course not completed in %.0f s' % timeout.to_sec())
+            rospy.sleep(0.5)
+        # The robot stops; at rest the GPS fixes keep refining the fused pose.
+        rospy.sleep(float(rospy.get_param('~settle_time')))
+        self.assertGreater(truth.farthest, min_excursion,
+                           'the robot hardly moved: the course aborted')
+        self.assertTrue(raw.count and fused.count, 'no odom_combined')
+        tx, ty = truth.position()
+        errors = {}
+        for name, track in (('odometry + gyro', raw), ('with GPS', fused)):
+            x, y = track.position()
+            errors[name] = math.hypot(x - tx, y - ty)
+        report = ('final position error against ground truth, the robot '
+                  '%.1f m from its start: odometry + gyro %.3f m, with GPS '
+                  '%.3f m (ratio %.2f)' % (
+                      truth.farthest, errors['odometry + gyro'],
+                      errors['with GPS'],
+                      errors['with GPS'] / max(errors['odometry + gyro'],
+                                               1e-9)))
+        print(report, flush=True)
+        rospy.loginfo(report)
+        self.assertLess(errors['with GPS'],
+                        max_ratio * errors['odometry + gyro'],
+                        report + '; want with GPS < %.3f x odometry + gyro'
+                        % max_ratio)
+
+
+if __name__ == '__main__':
+    rospy.init_node('pose_ekf_gps_test')
+    rostest.rosrun('rbx1_nav', 'pose_ekf_gps', PoseEkfGpsTest)

@@ -1,0 +1,273 @@
+"""Unit tests for pose_ekf's visual odometry and GPS inputs, its status
+text, its start-up sensor check and its second-publisher watch
+(rbx1_nav.pose_ekf; the gyro + wheel basics are in test_pose_ekf.py)."""
+import math
+
+import numpy as np
+import pytest
+
+from rbx1_nav.pose_ekf import (GyroOdomFusion, OtherPublisherWatch, PlanarEkf,
+                               odom_increment, other_publisher_text,
+                               position_covariance_2x2, silent_sensor_text)
+from rbx1_nav.transform_utils import normalize_angle
+
+# Per 30 Hz step. x, y: a random walk of 0.055 m/sqrt(s), about what it
+# takes to cover the wheels' 3 % scale error at 0.3 m/s; poor yaw.
+ODOM_COV = np.diag([1e-4, 1e-4, 1e-2])
+VO_COV = np.diag([1e-6, 1e-6, 1e-4])
+GYRO_VAR = 1e-5
+
+
+def compose(pose, inc):
+    x, y, yaw = pose
+    c, s = math.cos(yaw), math.sin(yaw)
+    return (x + c * inc[0] - s * inc[1], y + s * inc[0] + c * inc[1],
+            normalize_angle(yaw + inc[2]))
+
+
+class Robot(object):
+    """A scripted robot: wheels that read distance ``linear_scale`` too long,
+    a perfect gyro, visual odometry and a GPS (truth + white noise) in a
+    frame whose origin is ``gps_origin`` in the output frame."""
+
+    def __init__(self, fusion, linear_scale=1.0, rate=30.0, gps_sd=0.3,
+                 gps_var=None, gps_rate=1.0, gps_origin=(0.0, 0.0), seed=1):
+        self.fusion = fusion
+        self.truth = self.odom = self.vo = (0.0, 0.0, 0.0)
+        self.vo_zero = (5.0, -3.0, 1.0)  # visual odometry's own start
+        self.gyro_yaw = 1.0
+        self.linear_scale = linear_scale
+        self.dt, self.t = 1.0 / rate, 0.0
+        self.gps_sd = gps_sd
+        self.gps_var = gps_sd ** 2 if gps_var is None else gps_var
+        self.gps_every = int(round(rate / gps_rate))
+        self.gps_origin = gps_origin
+        self.rng = np.random.default_rng(seed)
+        self.k = 0
+        self.events = []
+
+    def vo_pose(self):
+        return compose(self.vo_zero, self.truth)
+
+    def run(self, seconds, v=0.0, w=0.0, odom=True, imu=True, vo=False,
+            gps=False):
+        for _ in range(int(round(seconds / self.dt))):
+            self.t += self.dt
+            self.k += 1
+            inc = (v * self.dt, 0.0, w * self.dt)
+            self.truth = compose(self.truth, inc)
+            self.odom = compose(self.odom, (inc[0] * self.linear_scale, 0.0,
+                                            inc[2]))
+            self.gyro_yaw = normalize_angle(self.gyro_yaw + inc[2])
+            f = self.fusion
+            if odom:
+                f.add_odom(self.t, self.t, self.odom, ODOM_COV)
+            if imu:
+                f.add_imu(self.t, self.t, self.gyro_yaw, GYRO_VAR)
+            if vo:
+                f.add_vo(self.t, self.t, self.vo_pose(), VO_COV)
+            if gps and self.k % self.gps_every == 0:
+                noise = self.rng.normal(0.0, self.gps_sd, 2)
+                f.add_gps(self.t, self.t,
+                          (self.truth[0] - self.gps_origin[0] + noise[0],
+                           self.truth[1] - self.gps_origin[1] + noise[1]),
+                          np.eye(2) * self.gps_var)
+            self.events += f.step(self.t)
+
+    def zigzag(self, legs=10, gps=True, **sensors):
+        """``legs`` legs of 2 m, turning +90 and -90 deg in turn: 20 m of
+        travel ending about 14 m from the start."""
+        for leg in range(legs):
+            self.run(2.0 / 0.3, v=0.3, gps=gps, **sensors)
+            self.run(math.pi / 2, w=0.5 if leg % 2 == 0 else -0.5, gps=gps,
+                     **sensors)
+
+    def position_error(self):
+        _, (x, y, _), _ = self.fusion.estimate
+        return math.hypot(x - self.truth[0], y - self.truth[1])
+
+
+# --- GPS ---------------------------------------------------------------------
+
+def test_gps_pulls_drifting_odometry_back_within_its_covariance():
+    raw = Robot(GyroOdomFusion(), linear_scale=1.03)
+    fused = Robot(GyroOdomFusion(gps_used=True), linear_scale=1.03)
+    raw.zigzag(gps=False)
+    fused.zigzag(gps=True)
+    raw_error, fused_error = raw.position_error(), fused.position_error()
+    # 3 % of about 14 m of net displacement: the odometry is far off...
+    assert raw_error > 0.3
+    # ...the fused pose is back within three standard deviations of its
+    # own covariance, which is tighter than one fix's (0.3 m).
+    cov = fused.fusion.estimate[2]
+    assert fused_error < 3.0 * math.sqrt(cov[0, 0] + cov[1, 1])
+    assert fused_error < 0.35 * raw_error
+    assert max(cov[0, 0], cov[1, 1]) < 0.3 ** 2
+
+
+def test_gps_frame_origin_is_learned_from_the_fixes():
+    robot = Robot(GyroOdomFusion(gps_used=True), linear_scale=1.03,
+                  gps_origin=(-1000.0, 250.0))  # fixes near (1000, -250)
+    robot.zigzag()
+    assert robot.position_error() < 0.25
+    ox, oy, cov = robot.fusion.ekf.offset
+    assert (ox, oy) == pytest.approx((1000.0, -250.0), abs=0.3)
+    assert any('first fix' in text for _, text in robot.events)
+
+
+def test_gps_with_a_huge_covariance_changes_nothing():
+    plain = Robot(GyroOdomFusion(), linear_scale=1.03)
+    vague = Robot(GyroOdomFusion(gps_used=True), linear_scale=1.03,
+                  gps_var=1e8)
+    plain.zigzag(gps=False)
+    vague.zigzag(gps=True)
+    assert vague.fusion.estimate[1] == pytest.approx(plain.fusion.estimate[1],
+                                                     abs=1e-3)
+    assert np.allclose(vague.fusion.estimate[2], plain.fusion.estimate[2],
+                       rtol=1e-3, atol=1e-9)
+
+
+def test_gps_dropped_and_taken_back_without_a_new_origin():
+    robot = Robot(GyroOdomFusion(gps_used=True, sensor_timeout=2.0),
+                  linear_scale=1.03)
+    robot.zigzag(legs=4)
+    offset = robot.fusion.ekf.offset[:2]
+    robot.zigzag(legs=2, gps=False)
+    assert any('gps timed out' in t for _, t in robot.events)
+    assert 'dropped: gps' in robot.fusion.state()
+    robot.zigzag(legs=4)
+    assert any('gps is back' in t for _, t in robot.events)
+    assert robot.fusion.ekf.offset[:2] == pytest.approx(offset, abs=0.2)
+    assert robot.position_error() < 0.25
+
+
+@pytest.mark.parametrize('bad', [(float('nan'), 0.0), (0.0, float('inf')),
+                                 (2e9, 0.0)])
+def test_unusable_gps_fixes_are_rejected(bad):
+    fusion = GyroOdomFusion(gps_used=True)
+    with pytest.raises(ValueError):
+        fusion.add_gps(0.0, 0.0, bad, np.eye(2))
+    with pytest.raises(ValueError):
+        fusion.add_gps(0.0, 0.0, (0.0, 0.0), np.eye(2) * float('nan'))
+    with pytest.raises(ValueError, match='absurd'):
+        fusion.add_gps(0.0, 0.0, (0.0, 0.0), np.eye(2) * 1e13)
+
+
+def test_position_covariance_block():
+    cov36 = np.arange(36.0)
+    assert np.array_equal(position_covariance_2x2(cov36), [[0, 1], [6, 7]])
+
+
+def test_gps_is_ignored_when_not_used():
+    robot = Robot(GyroOdomFusion(), linear_scale=1.03)
+    robot.zigzag(legs=2, gps=True)
+    assert robot.fusion.ekf.offset is None
+    assert robot.fusion.estimate[1][:2] == pytest.approx(robot.odom[:2],
+                                                         abs=1e-6)
+
+
+# --- visual odometry ---------------------------------------------------------
+
+def test_vo_alone_works_like_odometry():
+    robot = Robot(GyroOdomFusion(odom_used=False, imu_used=False,
+                                 vo_used=True))
+    robot.zigzag(gps=False, odom=False, imu=False, vo=True)
+    # Started at the visual odometry's first pose, then followed its steps.
+    assert robot.fusion.estimate[1] == pytest.approx(robot.vo_pose(), abs=1e-9)
+    assert any('first visual odometry pose' in t for _, t in robot.events)
+
+
+def test_vo_with_odometry_corrects_the_wheels():
+    wheels = Robot(GyroOdomFusion(imu_used=False), linear_scale=1.03)
+    both = Robot(GyroOdomFusion(imu_used=False, vo_used=True),
+                 linear_scale=1.03)
+    wheels.zigzag(gps=False, imu=False)
+    both.zigzag(gps=False, imu=False, vo=True)
+    # Visual odometry is 100x more certain in yaw and as good in x, y: the
+    # fused track stays much closer to the truth than the wheels alone.
+    assert both.position_error() < 0.6 * wheels.position_error()
+    # Its increments (relative to its own start (5, -3, 1)) were used, not
+    # its absolute pose.
+    assert math.hypot(*both.fusion.estimate[1][:2]) < 20.0
+
+
+def test_vo_taking_over_when_odometry_stops_and_handing_back():
+    robot = Robot(GyroOdomFusion(vo_used=True, sensor_timeout=0.5),
+                  linear_scale=1.0)
+    robot.run(2.0, v=0.3, vo=True)
+    robot.run(3.0, v=0.3, w=0.2, odom=False, vo=True)
+    assert any('odom timed out' in t for _, t in robot.events)
+    robot.odom = (50.0, 50.0, 0.0)  # odometry restarts somewhere else
+    robot.run(3.0, v=0.3, vo=True)
+    assert any('odom is back' in t for _, t in robot.events)
+    assert robot.position_error() < 0.02
+    assert abs(normalize_angle(robot.fusion.estimate[1][2]
+                               - robot.truth[2])) < 0.01
+
+
+def test_pose_increment_update_is_the_weighted_mean_of_both_increments():
+    ekf = PlanarEkf((1.0, 2.0, 0.5), np.eye(3) * 1e-9, anchors=('vo',))
+    ekf.predict((0.2, 0.0, 0.1), np.diag([1e-2, 1e-2, 1e-2]))
+    ekf.update_pose_increment((0.1, 0.0, 0.05), np.diag([1e-2, 1e-2, 1e-2]))
+    got = odom_increment((1.0, 2.0, 0.5), ekf.pose)
+    assert got == pytest.approx((0.15, 0.0, 0.075), abs=2e-3)
+    assert ekf.cov[0, 0] == pytest.approx(0.005, rel=0.05)
+
+
+# --- status and start-up check -----------------------------------------------
+
+def test_status_text_names_the_state_sensors_and_covariance():
+    fusion = GyroOdomFusion(gps_used=True)
+    fusion.step(0.0)
+    text = fusion.status_text(0.0, {'odom': '/odom', 'imu': '/imu_data'})
+    assert text.startswith('state: waiting for odom')
+    assert 'odom on /odom (wheel odometry, relative pose): waiting' in text
+    assert 'vo: not used' in text and 'estimate: none yet' in text
+    robot = Robot(fusion)
+    robot.run(2.0, v=0.3, gps=True)
+    text = fusion.status_text(robot.t)
+    assert text.startswith('state: running\n')
+    assert 'gps (absolute x, y): active, last stamp 2.000' in text
+    assert 'covariance (x, y, yaw): [' in text
+    robot.run(2.0, v=0.3, imu=False, gps=True)
+    assert fusion.state() == 'running; dropped: imu'
+
+
+def test_silent_sensors_are_reported_once_after_the_timeout():
+    fusion = GyroOdomFusion(sensor_timeout=1.0, gps_used=True)
+    fusion.step(10.0)
+    fusion.add_odom(10.2, 10.2, (0.0, 0.0, 0.0), ODOM_COV)
+    fusion.step(10.2)
+    assert fusion.silent_sensors(10.9) == []
+    assert fusion.silent_sensors(11.0) == ['imu', 'gps']
+    assert fusion.silent_sensors(12.0) == []
+    assert fusion.state() == 'running; never received: imu, gps'
+
+
+def test_silent_sensor_text_says_who_publishes():
+    none = silent_sensor_text('imu', '/robot/gyro', 1.0, [])
+    assert 'no message came on /robot/gyro within 1 s' in none
+    assert 'nothing publishes /robot/gyro' in none
+    some = silent_sensor_text('gps', '/gps', 2.0, ['/b', '/a'])
+    assert '/a, /b publishes it but sent nothing' in some
+    assert 'could not ask the master' in silent_sensor_text('vo', '/vo', 1, None)
+
+
+# --- a second publisher of the transform -------------------------------------
+
+def test_other_publisher_reported_at_once_then_every_period():
+    watch = OtherPublisherWatch(period=30.0, quiet=5.0)
+    reports = [t for t in np.arange(0.0, 70.0, 0.02)
+               if watch.seen('/fake_turtlebot', float(t))]
+    assert reports == pytest.approx([0.0, 30.0, 60.0], abs=0.021)
+    assert watch.publishers == ['/fake_turtlebot']
+    assert watch.gone(72.0) == [] and watch.gone(75.1) == ['/fake_turtlebot']
+    assert watch.seen('/fake_turtlebot', 80.0)  # back: reported again at once
+
+
+def test_other_publisher_text_names_node_and_fixes():
+    text = other_publisher_text('/fake_turtlebot', 'odom', 'base_footprint',
+                                '/tf')
+    assert text.startswith('node /fake_turtlebot also publishes the '
+                           'transform odom -> base_footprint on /tf')
+    assert 'publish_tf: false' in text and '~publish_tf false' in text
