@@ -32,6 +32,7 @@ import rospy
 from geometry_msgs.msg import Twist
 
 from rbx1_nav import params
+from rbx1_nav.ros.node import exit_if_help
 from rbx1_nav.teleop import (PARAMS, QUIT_KEYS, STOP, KeyboardTeleop,
                              check_settings, help_text)
 
@@ -161,6 +162,7 @@ class TeleopKeyboard(object):
 
 def main():
     """Run the node; return the process exit status."""
+    exit_if_help(PARAMS, __doc__)
     # Before init_node, so that it also says so without a master.
     if not os.isatty(0):
         sys.stderr.write(NOT_A_TERMINAL + '\n')

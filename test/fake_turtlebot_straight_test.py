@@ -40,6 +40,15 @@ class StraightLine(unittest.TestCase):
         assert cls.rec.wait_stopped(cls.sent, 10 * cls.timeout + 60.0), 'robot never stopped'
         rospy.sleep(0.5)  # a few more messages while standing still
         cls.odom = [planar(m) for m in cls.rec.snapshot('odom')]
+        # ground_truth is a stream of its own: at high sim speeds its
+        # subscriber may lag the odom one; wait (wall time) until it has the
+        # last odom stamp too.
+        last = cls.odom[-1][0]
+        for _ in range(500):
+            if any(m.header.stamp.to_sec() >= last
+                   for m in cls.rec.snapshot('truth')[-5:]):
+                break
+            rospy.rostime.wallsleep(0.01)
         cls.k, cls.j = motion_episode(cls.rec.snapshot('odom'), cls.sent)
         cls.gap_start = cls.odom[cls.k][0] - cls.odom[cls.k - 1][0]
         cls.gap_stop = cls.odom[cls.j][0] - cls.odom[cls.j - 1][0]

@@ -75,6 +75,22 @@ def describe_final_offset(track, reference):
                                     reference.name)
 
 
+def _end_distance(track):
+    """Metres from the first pose of ``track`` to its last."""
+    (x0, y0, _), (x1, y1, _) = track.poses[0], track.poses[-1]
+    return math.hypot(x1 - x0, y1 - y0)
+
+
+def _heading_arrows(ax, track, color, count=40):
+    """Small arrows of the heading at ``count`` points of the track, so the
+    legs (out and back overlap) and the turns (arrows fanning out) show."""
+    step = max(1, len(track.poses) // count)
+    sample = track.poses[::step]
+    ax.quiver([p[0] for p in sample], [p[1] for p in sample],
+              [math.cos(p[2]) for p in sample], [math.sin(p[2]) for p in sample],
+              color=color, alpha=0.6, width=0.004, scale=30, zorder=3)
+
+
 def _pose_arrow(ax, pose, color, label, length=0.12):
     x, y, yaw = pose
     ax.annotate('', xy=(x + length * math.cos(yaw), y + length * math.sin(yaw)),
@@ -101,15 +117,31 @@ def plot_course(tracks, path, title=None, reference=None):
     # Wide solid first, thin dashed over it: identical paths stay visible.
     styles = [('tab:red', 4.0, '-'), ('tab:blue', 1.5, '--'),
               ('tab:green', 1.5, ':'), ('tab:purple', 1.0, '-.')]
-    fig, ax = plt.subplots(figsize=(8, 5))
+    fig, ax = plt.subplots(figsize=(9, 6))
+    # The start/end region, magnified: where the course's error shows.
+    zoom = ax.inset_axes([0.62, 0.52, 0.36, 0.44])
+    x0, y0, _ = tracks[0].poses[0]
+    half = max(0.02, 1.5 * max(_end_distance(t) for t in tracks))
     for track, (color, width, line) in zip(tracks, styles):
-        ax.plot(track.xs, track.ys, color=color, lw=width, linestyle=line,
-                alpha=0.8, label='%s (%.2f m travelled)' % (track.name,
-                                                           track.length))
-        _pose_arrow(ax, track.poses[0], color, 'start')
-        _pose_arrow(ax, track.poses[-1], color, 'end')
+        label = '%s: %.2f m travelled; %s from the start' % (
+            track.name, track.length, describe_error(track).split(': ', 1)[1])
+        for axes in (ax, zoom):
+            axes.plot(track.xs, track.ys, color=color, lw=width,
+                      linestyle=line, alpha=0.8,
+                      label=label if axes is ax else None)
+            _pose_arrow(axes, track.poses[0], color, 'start', 0.3 * half)
+            _pose_arrow(axes, track.poses[-1], color, 'end', 0.3 * half)
+        _heading_arrows(ax, track, color)
+    zoom.set_xlim(x0 - half, x0 + half)
+    zoom.set_ylim(y0 - half, y0 + half)
+    zoom.set_aspect('equal', adjustable='box')
+    zoom.tick_params(labelsize=7)
+    zoom.set_title('start and end, %.0f mm across' % (2000 * half), fontsize=8)
+    ax.indicate_inset_zoom(zoom, edgecolor='grey')
     ax.plot([], [], 'ko', label='start pose')
     ax.plot([], [], 'ks', label='end pose')
+    ax.plot([], [], color='grey', marker=r'$\rightarrow$', linestyle='none',
+            markersize=10, label='heading along the way')
     full_title = '%s\nend vs start: %s' % (
         title or 'Out and back', '; '.join(describe_error(t) for t in tracks))
     others = [t for t in tracks if reference is not None and t is not reference]

@@ -1,15 +1,15 @@
 """The README's node table lists exactly the parameters each node reads.
 
 Each node declares every private parameter it reads (``PARAMS``, a tuple of
-rbx1_nav.params.Param, read through rbx1_nav.ros.node.start_node), so the
-declaration is the truth; the README row of the node must name each of them
-in backticks, and no other. "and the runner's" in a row stands for the
-runner's row.
+rbx1_nav.params.Param, read through rbx1_nav.ros.node.start_node) and
+lists them for ``--help``, so that list is the truth; the README row of the
+node must name each of them in backticks, and no other. "and the runner's"
+in a row stands for the runner's row.
 """
 import glob
-import importlib.util
 import os
 import re
+import subprocess
 
 import pytest
 
@@ -39,12 +39,16 @@ def readme_rows():
 
 
 def declared(path):
-    spec = importlib.util.spec_from_file_location(
-        'node_' + os.path.basename(path)[:-3], path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    assert hasattr(module, 'PARAMS'), '%s declares no PARAMS' % path
-    return {p.name for p in module.PARAMS}
+    """The parameters ``rosrun rbx1_nav NODE --help`` lists."""
+    proc = subprocess.run(['rosrun', 'rbx1_nav', os.path.basename(path),
+                           '--help'], stdout=subprocess.PIPE,
+                          stderr=subprocess.STDOUT, universal_newlines=True,
+                          timeout=60)
+    assert proc.returncode == 0, proc.stdout
+    header = 'Private parameters (rosrun: _name:=value; launch: <param>):'
+    assert header in proc.stdout, '%s --help lists no parameters' % path
+    table = proc.stdout.split(header, 1)[1]
+    return set(re.findall(r'^  ~([a-z][a-z0-9_]*) ', table, re.M))
 
 
 @pytest.mark.parametrize('path', NODES, ids=[os.path.basename(p) for p in NODES])
