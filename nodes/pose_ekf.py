@@ -16,15 +16,10 @@ time and watches for problems:
 * another node publishing the same transform on tf gets an error naming
   it and the fix, repeated every 30 s while it lasts.
 
-Private parameters (robot_pose_ekf's names and defaults, plus publish_tf):
-  ~output_frame (str, 'odom'), ~base_footprint_frame (str, 'base_footprint'),
-  ~freq (float, 30.0): filter steps per second, 0.01 to 1000,
-  ~sensor_timeout (float, 1.0): seconds without messages before a sensor is
-      left out of the fusion (it is taken back when it returns),
-  ~odom_used (bool, true), ~imu_used (bool, true), ~vo_used (bool, false),
-  ~gps_used (bool, false),
-  ~publish_tf (bool, true): false runs pose_ekf as an estimator only.
-The IMU's yaw is used as is: mount it with its z axis up. GPS x, y are
+Private parameters: robot_pose_ekf's names and defaults, plus
+~publish_tf (false runs pose_ekf as an estimator only); PARAMS below,
+listed by --help. A sensor silent for ~sensor_timeout is left out of the
+fusion and taken back when it returns. The IMU's yaw is used as is: mount it with its z axis up. GPS x, y are
 taken in a frame with the output frame's axes; its origin is learned from
 the fixes (keep the robot still for a few fixes after start-up). A bad
 parameter is logged and the node exits with status 1. Absurd sensor

@@ -93,7 +93,7 @@ def test_demo_course_completes_from_the_install_space(install_setup):
         port = s.getsockname()[1]
     proc = run_in(install_setup, 'export ROS_MASTER_URI=http://localhost:%d; '
                   'roslaunch -p %d rbx1_nav odom_out_and_back_sim.launch '
-                  'sim_speed:=10 precise:=true' % (port, port))
+                  'sim_speed:=10' % (port, port))
     assert 'Course complete' in proc.stdout, proc.stdout[-3000:]
 
 

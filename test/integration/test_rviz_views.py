@@ -120,11 +120,11 @@ def test_rviz_draws_odometry_and_ground_truth(config, tmp_path):
         assert wait_for(lambda: os.path.exists('/tmp/.X11-unix/X%d' % display),
                         10), 'Xvfb did not start'
         procs.start('robot', ['roslaunch', '-p', str(port), 'rbx1_nav', launch,
-                              'sim_speed:=5', 'realistic:=true'])
+                              'sim_speed:=10', 'realistic:=true'])
         rviz = procs.start('rviz', ['rviz', '-d', os.path.join(ROOT, 'rviz', config)])
         course = subprocess.run(
-            ['rosrun', 'rbx1_nav', 'odom_out_and_back.py', '_goal_distance:=0.6',
-             '_pause:=0.2', '_tf_wait:=60', '_tf_timeout:=5'],
+            ['rosrun', 'rbx1_nav', 'odom_out_and_back.py', '_goal_distance:=0.5',
+             '_pause:=0.2', '_tf_wait:=100', '_tf_timeout:=10'],
             env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
             universal_newlines=True, timeout=180)
         assert course.returncode == 0, course.stdout[-3000:]
