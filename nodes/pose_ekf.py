@@ -98,6 +98,7 @@ class PoseEkfNode(object):
     """Feeds sensor messages to GyroOdomFusion and publishes its estimate."""
 
     def __init__(self, values):
+        started = rospy.Time.now()  # before the topics connect
         self.output_frame = values['output_frame']
         self.base_frame = values['base_footprint_frame']
         self.freq = values['freq']
@@ -106,6 +107,8 @@ class PoseEkfNode(object):
         self.fusion = GyroOdomFusion(used['odom'], used['imu'],
                                      values['sensor_timeout'], used['vo'],
                                      used['gps'])
+        if not started.is_zero():
+            self.fusion.start(started.to_sec())
         self.lock = threading.Lock()
         self.pub = rospy.Publisher('~odom_combined', PoseWithCovarianceStamped,
                                    queue_size=10)

@@ -629,10 +629,17 @@ class GyroOdomFusion(object):
             self.updated = True
 
     # -- start-up checks and status -------------------------------------------
+    def start(self, now):
+        """Mark start-up at ``now`` (the first :meth:`step` does otherwise):
+        a node calls it before it connects its topics, so the time that
+        takes counts towards ``sensor_timeout``."""
+        if self.started_at is None:
+            self.started_at = now
+
     def silent_sensors(self, now):
         """Used sensors with no message ``sensor_timeout`` after start-up.
 
-        Start-up is the first :meth:`step`. Each sensor is returned once,
+        Start-up is :meth:`start` or the first :meth:`step`. Each sensor is returned once,
         at the first call past that time; the caller warns about it.
         """
         if self.started_at is None or now - self.started_at < self.sensor_timeout:

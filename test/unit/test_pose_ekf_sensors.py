@@ -271,3 +271,12 @@ def test_other_publisher_text_names_node_and_fixes():
     assert text.startswith('node /fake_turtlebot also publishes the '
                            'transform odom -> base_footprint on /tf')
     assert 'publish_tf: false' in text and '~publish_tf false' in text
+
+
+def test_start_up_can_be_marked_before_the_first_step():
+    fusion = GyroOdomFusion(True, True, 2.0)
+    fusion.start(10.0)
+    fusion.step(11.0)
+    fusion.start(11.0)  # the first mark stands
+    assert fusion.silent_sensors(11.9) == []
+    assert fusion.silent_sensors(12.0) == ['odom', 'imu']
