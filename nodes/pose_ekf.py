@@ -28,7 +28,6 @@ being finite the filter restarts instead of publishing it.
 """
 import threading
 
-import rosgraph
 import rospy
 import tf2_ros
 from geometry_msgs.msg import (PoseWithCovarianceStamped, Quaternion,
@@ -48,7 +47,6 @@ from rbx1_nav.transform_utils import quat_to_angle, yaw_to_quaternion
 
 WARN_PERIOD = 5.0  # s between repeats of the same warning
 CONFLICT_PERIOD = 30.0  # s between repeats of the second-publisher error
-MASTER_WAIT = 3.0  # wall s to wait for the master's answer about a topic
 MIN_FREQ, MAX_FREQ = 0.01, 1000.0  # Hz, bounds of ~freq
 
 PARAMS = (
@@ -73,25 +71,17 @@ TOPICS = {'odom': ('odom', Odometry), 'imu': ('imu_data', Imu),
           'vo': ('vo', Odometry), 'gps': ('gps', Odometry)}
 
 
-def topic_publishers(topic):
-    """Nodes publishing ``topic`` according to the master, or None.
+def connected_publishers(subscriber):
+    """The nodes ``subscriber`` is connected to, or None if unknown.
 
-    Asked from a helper thread so an unreachable master delays the caller
-    by at most MASTER_WAIT wall seconds.
+    From rospy's own connections, not the master: asking a busy (or
+    unreachable) master would hold up the filter loop, and with it the
+    warning this feeds.
     """
-    answer = []
-
-    def ask():
-        try:
-            pubs, _, _ = rosgraph.Master(rospy.get_name()).getSystemState()
-            answer.append(next((nodes for name, nodes in pubs
-                                if name == topic), []))
-        except Exception:  # noqa: BLE001 - any failure means "unknown"
-            pass
-    thread = threading.Thread(target=ask, daemon=True)
-    thread.start()
-    thread.join(MASTER_WAIT)
-    return answer[0] if answer else None
+    try:
+        return sorted(c.callerid_pub for c in subscriber.impl.connections)
+    except AttributeError:  # rospy's internals changed
+        return None
 
 
 class PoseEkfNode(object):
@@ -256,7 +246,7 @@ class PoseEkfNode(object):
             topic = self.topics[name]
             rospy.logwarn('pose_ekf: ' + silent_sensor_text(
                 name, topic, self.fusion.sensor_timeout,
-                topic_publishers(topic)))
+                connected_publishers(self.subs[name])))
         for caller in gone:
             rospy.loginfo('pose_ekf: %s no longer publishes %s on tf',
                           caller, self.base_frame)

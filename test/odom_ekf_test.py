@@ -70,7 +70,9 @@ class OdomEkfTest(unittest.TestCase):
         publishers = subscribers = []
         while rospy.Time.now() < deadline:
             publishers, subscribers, _ = master.getSystemState()
-            if ['/odom_ekf', ['/odom_ekf']] in publishers:
+            # The node registers its publisher, then its subscriber.
+            if (['/odom_ekf', ['/odom_ekf']] in publishers and '/odom_ekf'
+                    in dict(subscribers).get('/odom_combined', [])):
                 break
             rospy.sleep(0.1)
         self.assertIn(['/odom_ekf', ['/odom_ekf']], publishers)

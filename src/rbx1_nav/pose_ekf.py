@@ -715,13 +715,13 @@ def _matrix_text(matrix):
 def silent_sensor_text(name, topic, timeout, publishers):
     """The warning for a used sensor that never sent a message.
 
-    ``publishers`` lists the nodes that publish ``topic`` (from the
-    master), or is None when the master could not be asked.
+    ``publishers`` lists the nodes that publish ``topic`` (the node's
+    subscriber is connected to them), or is None when that is unknown.
     """
     text = ('%s_used is true but no message came on %s within %.3g s of '
             'start-up; ' % (name, topic, timeout))
     if publishers is None:
-        return text + 'could not ask the master who publishes it'
+        return text + 'whether anything publishes it is unknown'
     if not publishers:
         return text + ('nothing publishes %s: start the driver, or remap '
                        '%s to the topic it publishes, or set ~%s_used false'

@@ -9,6 +9,7 @@ uses. :func:`exit_node` is a node's last line.
 import signal
 import sys
 import threading
+import time
 
 import rosgraph
 import rospy
@@ -35,6 +36,33 @@ def exit_if_help(specs, doc):
     if any(arg in ('-h', '--help') for arg in sys.argv[1:]):
         print(params.usage(doc, specs))
         raise SystemExit(0)
+
+
+ROSOUT_SETTING = '/rosout_disable_topics_generation'
+
+
+def cache_rosout_setting():
+    """Keep log calls off the master.
+
+    rospy's rosout handler reads ROSOUT_SETTING on every log call, and an
+    unset parameter is never cached: each log line is a round trip to the
+    master, slow when the master is busy (and a hang when it is gone). Set
+    to rospy's own default, the value is cached after the first read.
+    """
+    if not rospy.has_param(ROSOUT_SETTING):
+        rospy.set_param(ROSOUT_SETTING, False)
+
+
+def wait_for_clock(limit=5.0):
+    """Under /use_sim_time, wait up to ``limit`` wall seconds for the first
+    /clock, so the start-up line and the node's start carry real stamps
+    (ROS time is 0 until then)."""
+    if not rospy.get_param('/use_sim_time', False):
+        return
+    deadline = time.monotonic() + limit
+    while (rospy.Time.now().is_zero() and time.monotonic() < deadline
+           and not rospy.is_shutdown()):
+        rospy.rostime.wallsleep(0.01)
 
 
 def wait_for_master(name):
@@ -83,6 +111,8 @@ def start_node(name, specs, doc):
     for signum in (signal.SIGINT, signal.SIGTERM):
         signal.signal(signum, _shutdown_on_signal)
     rospy.init_node(name, disable_signals=True)
+    cache_rosout_setting()
+    wait_for_clock()
     warn_unknown(name, specs)
     try:
         values = read_params(specs)
