@@ -31,7 +31,7 @@ PARAMS = (
 
 
 def main():
-    values = start_node('sim_clock', PARAMS, __doc__)
+    values = start_node('sim_clock', PARAMS, __doc__, clock=False)
     if values is None:
         raise SystemExit(1)
     pacer = ClockPacer(values['speed'], values['step'], values['start_time'])

@@ -100,8 +100,11 @@ def warn_unknown(name, specs):
                       ' (did you mean ~%s?)' % nearest if nearest else '')
 
 
-def start_node(name, specs, doc):
+def start_node(name, specs, doc, clock=True):
     """--help (``doc`` and ``specs``), init_node, then read and log ``specs``.
+
+    ``clock`` false skips the wait for the first /clock: for the node that
+    publishes it.
 
     Returns the values, or None (logged, with how to clear a bad value) if
     any is unusable.
@@ -112,7 +115,8 @@ def start_node(name, specs, doc):
         signal.signal(signum, _shutdown_on_signal)
     rospy.init_node(name, disable_signals=True)
     cache_rosout_setting()
-    wait_for_clock()
+    if clock:
+        wait_for_clock()
     warn_unknown(name, specs)
     try:
         values = read_params(specs)
