@@ -1,10 +1,13 @@
 """Start-up and shutdown shared by every node of the package.
 
-:func:`start_node` answers ``--help`` without a master, starts rospy with
-signal handling that cannot deadlock, reads and checks the node's declared
-private parameters (rbx1_nav.params.Param), warns about private parameters
-it does not know (naming the nearest known one), and logs the values it
-uses. :func:`exit_node` is a node's last line.
+:func:`start_node` answers ``--help`` without a master, says so while it
+waits for one, starts rospy with signal handling that cannot deadlock,
+keeps log calls off the master, waits for the first /clock under simulated
+time, reads and checks the node's declared private parameters
+(rbx1_nav.params.Param), warns about private parameters it does not know
+(naming the nearest known one), and logs the values it uses.
+:func:`until_shutdown` runs a node's main loop; :func:`exit_node` is a
+node's last line.
 """
 import signal
 import sys
