@@ -155,10 +155,9 @@ def analyse(values, odometry, measured):
     measured = umbmark.check_errors(measured, count, values['side'],
                                     '~measurements')
     odometry = umbmark.check_errors(odometry, count, values['side'], '~odometry')
-    errors = measured - odometry
     runs = values['runs']
-    result = umbmark.analyse(errors[:runs], errors[runs:], values['side'],
-                             values['wheel_separation'])
+    result = umbmark.analyse_runs(odometry, measured, runs, values['side'],
+                                  values['wheel_separation'])
     for line in umbmark.report(result):
         rospy.loginfo('%s: %s', NAME, line)
     results_path = os.path.abspath(values['results'])
@@ -185,11 +184,9 @@ def load(path):
     """A Result from a results file this node wrote."""
     with open(path) as f:
         saved = yaml.safe_load(f)
-    runs = saved['runs']
-    errors = [[m[0] - o[0], m[1] - o[1]]
-              for m, o in zip(saved['measurements'], saved['odometry'])]
-    return umbmark.analyse(errors[:runs], errors[runs:], saved['side'],
-                           saved['wheel_separation'])
+    return umbmark.analyse_runs(saved['odometry'], saved['measurements'],
+                                saved['runs'], saved['side'],
+                                saved['wheel_separation'])
 
 
 def main():

@@ -24,15 +24,18 @@ __all__ = ['Kind', 'LINEAR', 'ANGULAR', 'PoseTrack', 'course', 'measure',
            'correction', 'report']
 
 Kind = namedtuple('Kind', 'name goal measured correction unit speed_unit '
-                         'quantity')
+                         'quantity unit_name moved')
 Kind.__doc__ = """One kind of calibration test: the names of its config
 fields (goal, measured, correction), the units users give goals, tolerances
-and speeds in, and the quantity measured."""
+and speeds in, the quantity measured, the unit's name and the verb of the
+motion."""
 
 LINEAR = Kind('linear', 'test_distance', 'measured_distance',
-              'odom_linear_scale_correction', 'm', 'm/s', 'distance')
+              'odom_linear_scale_correction', 'm', 'm/s', 'distance', 'metres',
+              'travelled')
 ANGULAR = Kind('angular', 'test_angle', 'measured_angle',
-               'odom_angular_scale_correction', 'deg', 'rad/s', 'angle')
+               'odom_angular_scale_correction', 'deg', 'rad/s', 'angle',
+               'degrees', 'turned')
 
 # A measurement this far from odometry is a wrong unit or a typo, not a
 # calibration (the config fields allow corrections of 0.5 to 2).
@@ -105,7 +108,7 @@ def correction(kind, odometry, measured):
             'the measured %s (%g %s) differs from odometry (%g %s) by more '
             'than a factor %g: a wrong unit (%s) or a typo?' % (
                 kind.quantity, measured, kind.unit, odometry, kind.unit,
-                MAX_RATIO, 'metres' if kind is LINEAR else 'degrees'))
+                MAX_RATIO, kind.unit_name))
     return ratio
 
 

@@ -43,7 +43,8 @@ import numpy as np
 
 from rbx1_nav.motion import Course, Drive, Pause, Turn
 
-__all__ = ['relative', 'square_course', 'check_errors', 'analyse', 'Result',
+__all__ = ['relative', 'square_course', 'check_errors', 'analyse',
+           'analyse_runs', 'Result',
            'corrections', 'report', 'plot']
 
 CW, CCW = 'cw', 'ccw'
@@ -121,6 +122,13 @@ def analyse(cw, ccw, side, wheel_separation):
     eb = (math.pi / 2.0) / (math.pi / 2.0 - alpha)
     return Result(side, wheel_separation, cw, ccw, cg_cw, cg_ccw, float(e_max),
                   float(alpha), float(beta), float(ed), float(eb))
+
+
+def analyse_runs(odometry, measured, runs, side, wheel_separation):
+    """:func:`analyse` of whole benchmark: odometry's and the true return
+    positions of the ``runs`` clockwise runs, then the counter-clockwise."""
+    errors = np.asarray(measured, dtype=float) - np.asarray(odometry, dtype=float)
+    return analyse(errors[:runs], errors[runs:], side, wheel_separation)
 
 
 def corrections(result):

@@ -129,9 +129,7 @@ class CalibrationNode(object):
             rospy.loginfo(
                 '%s: now measure the %s the robot really %s and give it '
                 '(%s): rosrun dynamic_reconfigure dynparam set %s %s VALUE',
-                self.name, kind.quantity,
-                'travelled' if kind is calibration.LINEAR else 'turned',
-                'metres' if kind is calibration.LINEAR else 'degrees',
+                self.name, kind.quantity, kind.moved, kind.unit_name,
                 rospy.get_name(), kind.measured)
 
     def report(self, measured, source):

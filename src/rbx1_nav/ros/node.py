@@ -59,13 +59,14 @@ def cache_rosout_setting():
 def wait_for_clock(limit=5.0):
     """Under /use_sim_time, wait up to ``limit`` wall seconds for the first
     /clock, so the start-up line and the node's start carry real stamps
-    (ROS time is 0 until then)."""
+    (ROS time is 0 until then). False if it did not come."""
     if not rospy.get_param('/use_sim_time', False):
-        return
+        return True
     deadline = time.monotonic() + limit
     while (rospy.Time.now().is_zero() and time.monotonic() < deadline
            and not rospy.is_shutdown()):
         rospy.rostime.wallsleep(0.01)
+    return not rospy.Time.now().is_zero()
 
 
 def wait_for_master(name):

@@ -21,12 +21,11 @@ import rosgraph
 import rospy
 import tf2_ros
 from geometry_msgs.msg import Twist
-from rosgraph_msgs.msg import Clock
 
 from rbx1_nav import params
 from rbx1_nav.motion import pose_error
 from rbx1_nav.params import param
-from rbx1_nav.ros.node import start_node
+from rbx1_nav.ros.node import start_node, wait_for_clock
 from rbx1_nav.transform_utils import Pose2D, normalize_angle, quat_to_angle
 
 BASE_FRAME_CANDIDATES = ('base_footprint', 'base_link')
@@ -106,17 +105,11 @@ class MotionRunner(object):
 
     def wait_for_clock(self):
         """Under /use_sim_time, wait (wall time) for the first /clock."""
-        if not rospy.get_param('/use_sim_time', False):
-            return
-        if not rospy.Time.now().is_zero():
-            return
-        rospy.loginfo('/use_sim_time is set: waiting for /clock')
-        try:
-            rospy.wait_for_message('/clock', Clock,
-                                   timeout=self.settings['tf_wait'])
-        except rospy.ROSInterruptException:
-            raise
-        except rospy.ROSException:
+        if rospy.Time.now().is_zero():  # only under /use_sim_time
+            rospy.loginfo('/use_sim_time is set: waiting for /clock')
+        if not wait_for_clock(self.settings['tf_wait']):
+            if rospy.is_shutdown():
+                raise rospy.ROSInterruptException('shutdown waiting for /clock')
             raise CourseAborted(
                 '/use_sim_time is true but nothing publishes /clock after '
                 '%.1f s (start the simulator with sim_speed set, or '
