@@ -17,6 +17,7 @@ DEB_PACKAGES := catkin ros-cmake-modules python3-catkin-pkg python3-setuptools \
   libsensor-msgs-dev libstd-msgs-dev libtf2-ros-dev ros-robot-state-publisher \
   rviz xvfb catkin-lint python3-pytest python3-hypothesis python3-numpy \
   python3-matplotlib python3-pil python3-std-srvs python3-dynamic-reconfigure \
+  ros-message-generation ros-message-runtime python3-genpy python3-gencpp \
   libdynamic-reconfigure-config-init-mutex-dev
 SUDO := $(if $(filter 0,$(shell id -u)),,sudo)
 

@@ -32,6 +32,7 @@ from rbx1_nav.diff_drive import (DEFAULT_COVARIANCE_DIAGONAL, DiffDriveConfig,
                                  DiffDriveSim, covariance_from_diagonal)
 from rbx1_nav.params import (POSITIVE, flag, frame, number, number_list, param,
                              raw, text)
+from rbx1_nav.ros import lockstep
 from rbx1_nav.ros.node import start_node, until_shutdown
 from rbx1_nav.transform_utils import yaw_to_quaternion
 
@@ -137,13 +138,23 @@ class FakeTurtleBot:
         world.child_frame_id = self.odom_frame
         world.transform.rotation.w = 1.0
         self.static_tf.sendTransform(world)
-        rospy.Subscriber('cmd_vel', Twist, self.on_cmd_vel, queue_size=1)
+        # Under lockstep, motion nodes report to this simulator, which
+        # reports to sim_clock (rbx1_nav.lockstep).
+        self.keeper = self.reporter = None
+        if lockstep.enabled():
+            self.keeper = lockstep.Keeper(rospy.get_name(), lockstep.NODE_TOPIC)
+            self.reporter = lockstep.Reporter(lockstep.CLOCK_TOPIC)
+        # Every command counts under lockstep, so none may be dropped.
+        rospy.Subscriber('cmd_vel', Twist, self.on_cmd_vel, queue_size=100,
+                         tcp_nodelay=True)
 
     def on_cmd_vel(self, msg):
         """Queue a command; warn (throttled) about rejected or clamped ones."""
         with self.lock:
             problem = self.sim.command(msg.linear.x, msg.angular.z,
                                        rospy.Time.now().to_sec())
+        if self.keeper is not None:
+            self.keeper.command_from(msg)
         if problem == 'non-finite':
             rospy.logwarn_throttle(WARN_PERIOD, 'fake_turtlebot: non-finite cmd_vel '
                                    '(%r, %r) rejected; stopping' % (msg.linear.x, msg.angular.z))
@@ -162,6 +173,8 @@ class FakeTurtleBot:
         published stream is the same at any speed; only after more than
         MAX_CATCH_UP s behind does it skip ahead in one (still exact) step.
         """
+        if self.keeper is not None:
+            return self.spin_lockstep()
         period = rospy.Duration.from_sec(1.0 / self.rate)
         next_tick = None
         while not rospy.is_shutdown():
@@ -185,6 +198,37 @@ class FakeTurtleBot:
                 next_tick = None
             except rospy.ROSInterruptException:
                 break
+
+    def spin_lockstep(self):
+        """Step when the clock reaches a grid time or a member's next tick.
+
+        Each step is published before the members handle it, so a motion
+        node steers by the pose of its very tick; then the simulator waits
+        for them (their reports and commands) and tells sim_clock how far
+        time may go: to its next grid step or the next member tick.
+        """
+        period = int(round(1e9 / self.rate))
+        while not rospy.is_shutdown() and rospy.Time.now().is_zero():
+            rospy.rostime.wallsleep(0.01)
+        now = lockstep.to_ns(rospy.Time.now())
+        grid = now
+        while not rospy.is_shutdown():
+            if now >= grid:
+                grid = now + period
+            self.step(lockstep.from_ns(now))
+            if not self.keeper.wait_allows(now + 1):
+                return
+            member = self.keeper.next_tick()
+            target = grid if member is None else max(min(grid, member), now + 1)
+            self.reporter.report(now, target)
+            try:
+                rospy.sleep(lockstep.from_ns(target) - rospy.Time.now())
+            except rospy.ROSTimeMovedBackwardsException:
+                rospy.logwarn('fake_turtlebot: ROS time moved backwards; restarting')
+                grid = 0
+            except rospy.ROSInterruptException:
+                return
+            now = lockstep.to_ns(rospy.Time.now())
 
     def step(self, stamp):
         """Advance the model to ``stamp`` and publish the new state."""

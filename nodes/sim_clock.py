@@ -6,8 +6,14 @@ One clock serves every robot on the master, so it publishes the global
 node follows the simulated time it publishes, so tests run the same at 1x
 and at 20x. The pacing itself is rbx1_nav.sim_clock.ClockPacer.
 
-Parameters: ~speed (1.0, x real time, 0.001 to 1e6), ~step (0.01 s of sim
-time per tick, 1e-9 to 0.01), ~start_time (0.0 s, at most 2**31).
+With the global parameter /lockstep true (sim_clock.launch lockstep:=true),
+time also waits for the simulators that report on /clock_lockstep, and
+they wait for their motion nodes (rbx1_nav.lockstep): a course then ends
+the same at any speed and under any load. ~speed max runs as fast as they
+allow; with no simulator taking part yet, 'max' runs at real time.
+
+Parameters: ~speed (1.0, x real time, 0.001 to 1e6, or max), ~step (0.01 s
+of sim time per tick, 1e-9 to 0.01), ~start_time (0.0 s, at most 2**31).
 """
 import time
 
@@ -15,14 +21,13 @@ import rospy
 from rosgraph_msgs.msg import Clock
 
 from rbx1_nav.params import number, param
+from rbx1_nav.ros import lockstep
 from rbx1_nav.ros.node import start_node
-from rbx1_nav.sim_clock import (MAX_SPEED, MAX_START, MAX_STEP, MIN_SPEED,
-                                MIN_STEP, ClockPacer)
+from rbx1_nav.sim_clock import MAX_START, MAX_STEP, MIN_STEP, ClockPacer, speed
 
 PARAMS = (
-    param('speed', 1.0, number, 'x real time', 'simulated seconds per wall '
-          'second (sim_clock.launch: sim_speed)', minimum=MIN_SPEED,
-          maximum=MAX_SPEED),
+    param('speed', 1.0, speed, 'x real time', 'simulated seconds per wall '
+          "second, or max (sim_clock.launch: sim_speed)"),
     param('step', MAX_STEP, number, 's', 'simulated time per /clock message',
           minimum=MIN_STEP, maximum=MAX_STEP),
     param('start_time', 0.0, number, 's', 'simulated time at start',
@@ -34,16 +39,26 @@ def main():
     values = start_node('sim_clock', PARAMS, __doc__, clock=False)
     if values is None:
         raise SystemExit(1)
-    pacer = ClockPacer(values['speed'], values['step'], values['start_time'])
+    speed = values['speed']
+    pacer = ClockPacer(speed, values['step'], values['start_time'])
     if not rospy.get_param('/use_sim_time', False):
         rospy.logwarn('sim_clock: /use_sim_time is not set; nodes will ignore /clock')
+    keeper = lockstep.Keeper('sim_clock', lockstep.CLOCK_TOPIC) if lockstep.enabled() else None
+    if keeper is None and speed is None:
+        rospy.logwarn("sim_clock: ~speed max without /lockstep has nothing to "
+                      "wait for: running at real time")
+        pacer.set_speed(1.0)
     pub = rospy.Publisher('/clock', Clock, queue_size=10)
     while not rospy.is_shutdown():
+        if keeper is not None and speed is None:
+            pacer.set_speed(None if keeper.has_members() else 1.0)
         sim_ns, wait = pacer.advance(time.monotonic())
         if wait > 0:
             time.sleep(wait)
+        if keeper is not None and not keeper.wait_allows(sim_ns):
+            break
         try:
-            pub.publish(Clock(clock=rospy.Time(*divmod(sim_ns, 10 ** 9))))
+            pub.publish(Clock(clock=lockstep.from_ns(sim_ns)))
         except rospy.ROSException:
             # Publishing fails only while shutting down, which a signal
             # starts in another thread (rbx1_nav.ros.node).

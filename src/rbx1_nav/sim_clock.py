@@ -5,12 +5,16 @@ stamps are exact multiples of the step, and schedules each step at
 ``speed`` times real time. When the publisher falls behind (a starved CPU),
 it re-anchors instead of bursting to catch up: simulated time then runs
 slower than asked, but never in steps larger than ``step``.
-The wall time is passed in, so the pacing is testable without sleeping.
+``speed`` None runs unpaced: as fast as whatever waits on the clock (the
+lockstep members) allows. The wall time is passed in, so the pacing is
+testable without sleeping.
 """
 import math
 
+from rbx1_nav.params import number
+
 __all__ = ['ClockPacer', 'MIN_STEP', 'MAX_STEP', 'MIN_SPEED', 'MAX_SPEED',
-           'MAX_START']
+           'MAX_START', 'speed']
 
 MAX_STEP = 0.01  # s of simulated time per tick; nodes see time move smoothly
 MIN_STEP = 1e-9  # s: one nanosecond, the resolution of ROS time
@@ -21,11 +25,23 @@ MIN_SPEED, MAX_SPEED = 1e-3, 1e6
 MAX_START = 2.0 ** 31
 
 
+def speed(name, value):
+    """A clock speed parameter: a number of x real time, or 'max' (None)."""
+    if isinstance(value, str) and value.strip().lower() == 'max':
+        return None
+    try:
+        return number(name, value, MIN_SPEED, MAX_SPEED)
+    except ValueError:
+        raise ValueError("%s must be 'max' or a number in [%g, %g], got %r"
+                         % (name, MIN_SPEED, MAX_SPEED, value))
+
+
 class ClockPacer:
     """Tick schedule for a clock running at ``speed`` x real time."""
 
     def __init__(self, speed, step=MAX_STEP, start=0.0, max_lag=0.1):
-        if not (math.isfinite(speed) and MIN_SPEED <= speed <= MAX_SPEED):
+        if speed is not None and not (math.isfinite(speed)
+                                      and MIN_SPEED <= speed <= MAX_SPEED):
             raise ValueError('sim speed must be in [%g, %g], got %r'
                              % (MIN_SPEED, MAX_SPEED, speed))
         if not (MIN_STEP <= step <= MAX_STEP):
@@ -33,11 +49,17 @@ class ClockPacer:
                              % (MIN_STEP, MAX_STEP, step))
         if not (math.isfinite(start) and 0 <= start <= MAX_START):
             raise ValueError('start time must be in [0, %g] s, got %r' % (MAX_START, start))
-        self.speed = float(speed)
+        self.speed = None if speed is None else float(speed)
         self.step_ns = int(round(step * 1e9))
         self.max_lag = max_lag         # wall seconds behind before re-anchoring
         self.sim_ns = int(round(start * 1e9))
         self._anchor = None            # (wall seconds, sim ns) of the schedule
+
+    def set_speed(self, speed):
+        """Run at ``speed`` (None: unpaced) from the next step on."""
+        if speed != self.speed:
+            self.speed = speed
+            self._anchor = None
 
     def advance(self, wall_now):
         """Move one step on; return (sim time in ns, wall seconds to wait).
@@ -47,6 +69,8 @@ class ClockPacer:
         if self._anchor is None:
             self._anchor = (wall_now, self.sim_ns)
         self.sim_ns += self.step_ns
+        if self.speed is None:
+            return self.sim_ns, 0.0
         wall0, sim0 = self._anchor
         due = wall0 + (self.sim_ns - sim0) * 1e-9 / self.speed
         wait = due - wall_now

@@ -1,6 +1,7 @@
 """Unit tests for rbx1_nav.sim_clock.ClockPacer, with a fake wall clock."""
 import pytest
 
+from rbx1_nav import sim_clock
 from rbx1_nav.sim_clock import ClockPacer
 
 
@@ -51,3 +52,30 @@ def test_extreme_but_valid_settings_give_sane_waits():
         sim_ns, wait = pacer.advance(100.0)
         assert sim_ns == int(round(start * 1e9)) + int(round(step * 1e9))
         assert wait == pytest.approx(step / speed)
+
+
+def test_max_speed_never_waits_and_keeps_exact_steps():
+    pacer = ClockPacer(None, step=0.01)
+    sims, wall_end = run(pacer, 100)
+    assert wall_end == 100.0
+    assert sims[-1] == 1_000_000_000
+
+
+def test_a_new_speed_takes_over_from_the_next_step():
+    pacer = ClockPacer(None, step=0.01)
+    run(pacer, 10)
+    pacer.set_speed(1.0)
+    sims, wall_end = run(pacer, 100, wall=50.0)
+    assert wall_end - 50.0 == pytest.approx(1.0)
+
+
+@pytest.mark.parametrize('value, expected', [('max', None), (' MAX ', None),
+                                             (10, 10.0), ('2.5', 2.5)])
+def test_speed_parameter(value, expected):
+    assert sim_clock.speed("~speed", value) == expected
+
+
+@pytest.mark.parametrize('value', ['fast', 0, -1, float('nan'), 1e9, True])
+def test_bad_speed_parameter_names_max(value):
+    with pytest.raises(ValueError, match="'max' or a number"):
+        sim_clock.speed("~speed", value)

@@ -12,6 +12,12 @@ path (success, Ctrl-C, ``rosnode kill``, any exception); the course aborts,
 robot stopped, when the transform stops updating for ``~tf_timeout`` or
 when ``/clock`` stops under simulated time. Exit status 0 only after a
 completed course.
+
+Under lockstep simulated time (rbx1_nav.ros.lockstep) the node is a member
+of its simulator's gate while it drives: each control tick falls on a step
+the simulator published, simulated time waits for the tick's command, and
+the start-up waits (~tf_wait, ~start_delay) count wall seconds, since they
+wait for other processes rather than for the robot.
 """
 import math
 import threading
@@ -25,11 +31,15 @@ from geometry_msgs.msg import Twist
 from rbx1_nav import params
 from rbx1_nav.motion import pose_error
 from rbx1_nav.params import param
+from rbx1_nav.ros import lockstep
 from rbx1_nav.ros.node import start_node, wait_for_clock
 from rbx1_nav.transform_utils import Pose2D, normalize_angle, quat_to_angle
 
 BASE_FRAME_CANDIDATES = ('base_footprint', 'base_link')
-
+#: Lockstep: control ticks tried for one on which the simulator publishes
+#: the followed transform; after that the transform is taken to come from
+#: elsewhere (a filter) and the latest one is used, as without lockstep.
+SYNC_TRIES = 10
 
 
 def common_params(rate):
@@ -49,6 +59,44 @@ def common_params(rate):
         param('start_delay', 0.0, params.number, 's',
               'pause before moving (e.g. for a bag recorder)', minimum=0.0),
     )
+
+
+class _Listener(tf2_ros.TransformListener):
+    """tf2 listener that wakes :meth:`wait` on every /tf message, over
+    connections without Nagle's delay."""
+
+    def __init__(self, buffer):
+        self.cond = threading.Condition()
+        super(_Listener, self).__init__(buffer, tcp_nodelay=True)
+
+    def callback(self, data):
+        super(_Listener, self).callback(data)
+        with self.cond:
+            self.cond.notify_all()
+
+    def wait(self, ready, timeout):
+        """Wait up to ``timeout`` wall seconds until ``ready()``; its result."""
+        with self.cond:
+            return self.cond.wait_for(ready, timeout)
+
+
+class _Deadline(object):
+    """A wait's limit: in ROS time, or in wall time under lockstep."""
+
+    def __init__(self, seconds, wall):
+        self.wall = wall
+        self.end = (time.monotonic() + seconds if wall
+                    else rospy.Time.now() + rospy.Duration(seconds))
+
+    def expired(self):
+        return (time.monotonic() if self.wall else rospy.Time.now()) >= self.end
+
+    def poll(self, hz):
+        """Sleep one poll period (wall time under lockstep)."""
+        if self.wall:
+            rospy.rostime.wallsleep(1.0 / hz)
+        else:
+            rospy.sleep(1.0 / hz)
 
 
 class CourseAborted(Exception):
@@ -77,14 +125,23 @@ class MotionRunner(object):
         # rosnode kill, roslaunch ending), so this stop still goes out.
         rospy.on_shutdown(self.halt)
         self.tf_buffer = tf2_ros.Buffer()
-        self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
+        self.tf_listener = _Listener(self.tf_buffer)
         self._clock_ready = False
+        self.lockstep = (lockstep.Reporter(lockstep.NODE_TOPIC)
+                         if lockstep.enabled() else None)
+        self.synced = False  # lockstep: ticks fall on the simulator's steps
+
+    def _send(self, twist):
+        """Publish on cmd_vel, counted for the lockstep gate."""
+        self.cmd_vel.publish(twist)
+        if self.lockstep is not None and self.lockstep.joined:
+            self.lockstep.commands += 1
 
     def stop(self):
         """Command zero velocity (a no-op once rospy has closed its topics:
         the shutdown hook :meth:`halt` has sent the stop by then)."""
         try:
-            self.cmd_vel.publish(Twist())
+            self._send(Twist())
         except rospy.ROSException:
             if not rospy.core.is_shutdown_requested():
                 raise
@@ -101,7 +158,7 @@ class MotionRunner(object):
         twist.linear.x, twist.angular.z = command.linear, command.angular
         with self.lock:
             if not self.halted:
-                self.cmd_vel.publish(twist)
+                self._send(twist)
 
     def wait_for_clock(self):
         """Under /use_sim_time, wait (wall time) for the first /clock."""
@@ -160,17 +217,16 @@ class MotionRunner(object):
         rospy.loginfo('Waiting up to %.1f s for tf %s -> %s',
                       self.settings['tf_wait'], self.odom_frame,
                       ' or '.join(candidates))
-        deadline = rospy.Time.now() + rospy.Duration(self.settings['tf_wait'])
-        poll = rospy.Rate(20)
+        deadline = self._deadline(self.settings['tf_wait'])
         while not rospy.is_shutdown():
             for frame in candidates:
                 if self.tf_buffer.can_transform(self.odom_frame, frame,
                                                 rospy.Time(0)):
                     rospy.loginfo('Following tf %s -> %s', self.odom_frame, frame)
                     return frame
-            if rospy.Time.now() >= deadline:
+            if deadline.expired():
                 break
-            poll.sleep()
+            deadline.poll(20)
         if rospy.is_shutdown():
             raise rospy.ROSInterruptException('shutdown while waiting for tf')
         problem = (
@@ -194,17 +250,27 @@ class MotionRunner(object):
         Commands published before the connection is made are lost, which
         would shorten the first move of an open-loop course.
         """
-        deadline = rospy.Time.now() + rospy.Duration(self.settings['tf_wait'])
-        poll = rospy.Rate(50)
-        while self.cmd_vel.get_num_connections() == 0:
+        deadline = self._deadline(self.settings['tf_wait'])
+        while self.cmd_vel.get_num_connections() == 0 or not (
+                self.lockstep is None or self.lockstep.connected()):
             if rospy.is_shutdown():
                 raise rospy.ROSInterruptException('shutdown while waiting')
-            if rospy.Time.now() >= deadline:
+            if deadline.expired():
+                if self.cmd_vel.get_num_connections():
+                    raise CourseAborted(
+                        '/lockstep is set but nothing takes lockstep reports '
+                        'on %s after %.1f s: start the simulator with '
+                        'lockstep too, or set /lockstep false'
+                        % (self.lockstep.pub.resolved_name,
+                           self.settings['tf_wait']))
                 raise CourseAborted('nothing subscribes to %s after %.1f s: %s'
                                     % (self.cmd_vel.resolved_name,
                                        self.settings['tf_wait'],
                                        self._listener_hint()))
-            poll.sleep()
+            deadline.poll(50)
+
+    def _deadline(self, seconds):
+        return _Deadline(seconds, wall=self.lockstep is not None)
 
     def _listener_hint(self):
         """Where the velocity commands could go instead, from the master."""
@@ -244,16 +310,24 @@ class MotionRunner(object):
         self.wait_for_listener()
         if self.settings['start_delay'] > 0.0:
             rospy.loginfo('Starting in %.1f s', self.settings['start_delay'])
-            rospy.sleep(self.settings['start_delay'])
+            deadline = self._deadline(self.settings['start_delay'])
+            while not (deadline.expired() or rospy.is_shutdown()):
+                deadline.poll(20)
+        try:
+            return self._drive(course)
+        finally:
+            if self.lockstep is not None:
+                self.lockstep.leave(lockstep.to_ns(rospy.Time.now()))
+
+    def _drive(self, course):
+        """The control loop of :meth:`run`."""
         timeout = rospy.Duration(self.settings['tf_timeout'])
-        rate = rospy.Rate(self.settings['rate'])
         blind = self.followed is None
         pose = Pose2D(0.0, 0.0, 0.0) if blind else None
         last_stamp = None
         fresh_at = rospy.Time.now()
-        while not rospy.is_shutdown():
-            now = rospy.Time.now()
-            reading = None if blind else self.lookup()
+        for now in self._ticks(blind):
+            reading = None if blind else self._reading(now)
             if reading is not None and (last_stamp is None
                                         or reading[1] > last_stamp):
                 pose, last_stamp = reading
@@ -267,18 +341,70 @@ class MotionRunner(object):
                         self.odom_frame, self.followed,
                         (now - fresh_at).to_sec(), timeout.to_sec()))
             if pose is None:  # found a moment ago; lookups may lag a cycle
-                rate.sleep()
                 continue
             self.publish(course.update(pose, now.to_sec()))
             for event in course.pop_events():
                 rospy.loginfo(event)
             if course.done:
                 break
-            rate.sleep()
         if not course.done:
             raise rospy.ROSInterruptException('shutdown before the course ended')
         self.stop()
         return None if blind else pose
+
+    def _ticks(self, blind):
+        """The control ticks (ROS times), at ~rate; under lockstep, as a
+        member of the simulator's gate."""
+        if self.lockstep is None:
+            rate = rospy.Rate(self.settings['rate'])
+            while not rospy.is_shutdown():
+                yield rospy.Time.now()
+                rate.sleep()
+            return
+        period = int(round(1e9 / self.settings['rate']))
+        now = lockstep.to_ns(rospy.Time.now())
+        self.synced = False
+        tries = 0
+        while not rospy.is_shutdown():
+            tick = now + period
+            self.lockstep.report(now, tick)
+            rospy.sleep(lockstep.from_ns(tick) - rospy.Time.now())
+            if not (self.synced or blind) and tries < SYNC_TRIES:
+                # Until the simulator steps at this node's ticks (it learns
+                # of them from the reports), send no command.
+                tries += 1
+                stamp = self._fresh_stamp(tick)
+                self.synced = stamp == tick
+                if not self.synced and tries < SYNC_TRIES:
+                    now = max(lockstep.to_ns(rospy.Time.now()), stamp or 0)
+                    continue
+                if not self.synced:
+                    rospy.loginfo('%s: tf %s -> %s is not stamped on the '
+                                  'simulator\'s steps (a filter publishes '
+                                  'it?); following the latest transform',
+                                  self.name, self.odom_frame, self.followed)
+            yield lockstep.from_ns(tick)
+            now = tick
+
+    def _fresh_stamp(self, tick):
+        """Under lockstep: wait up to ~tf_timeout (wall) for a transform
+        stamped at ``tick`` ns or later; the latest stamp (ns) or None."""
+        def latest():
+            reading = self.lookup()
+            return None if reading is None else lockstep.to_ns(reading[1])
+
+        self.tf_listener.wait(lambda: (latest() or 0) >= tick,
+                              self.settings['tf_timeout'])
+        return latest()
+
+    def _reading(self, now):
+        """(pose, stamp) for the tick at ``now``: under lockstep, the
+        simulator's step at that very time."""
+        if self.synced:
+            stamp = self._fresh_stamp(lockstep.to_ns(now))
+            if stamp is None or stamp < lockstep.to_ns(now):
+                self.synced = False  # the simulator is gone or restarted
+        return self.lookup()
 
     def summarize(self, course, final):
         """Log the final pose against the start and the course time."""

@@ -1,0 +1,145 @@
+"""The ROS side of lockstep simulated time (the rules: rbx1_nav.lockstep).
+
+Lockstep is on when both ``/use_sim_time`` and ``/lockstep`` are true
+(sim_clock.launch sets them); on a real robot nothing here runs.
+
+:class:`Keeper` is a gate's owner (sim_clock, a simulator): it takes the
+members' reports and waits until simulated time may move on.
+:class:`Reporter` is a member (a simulator, a motion node): it joins,
+reports each step it handled, and leaves.
+"""
+import threading
+import time
+
+import rospy
+
+from rbx1_nav.lockstep import Gate
+from rbx1_nav.msg import Lockstep
+
+#: Relative topic on which motion nodes report to their simulator.
+NODE_TOPIC = 'lockstep'
+#: Global topic on which simulators report to sim_clock (one clock serves
+#: every namespace, like /clock itself).
+CLOCK_TOPIC = '/clock_lockstep'
+#: Wall seconds a keeper waits for a member before saying who it waits for.
+SLOW_MEMBER = 5.0
+
+
+def enabled():
+    """True when this run uses lockstep simulated time."""
+    return bool(rospy.get_param('/use_sim_time', False)
+                and rospy.get_param('/lockstep', False))
+
+
+def to_ns(stamp):
+    """rospy.Time -> integer nanoseconds."""
+    return stamp.secs * 1000000000 + stamp.nsecs
+
+
+def from_ns(ns):
+    """Integer nanoseconds -> rospy.Time."""
+    return rospy.Time(*divmod(int(ns), 1000000000))
+
+
+def sender(msg):
+    """The node name that published ``msg`` (rospy keeps it per message)."""
+    return msg._connection_header['callerid']
+
+
+class Keeper(object):
+    """Owner of a lockstep gate: members report to it on ``topic``."""
+
+    def __init__(self, owner, topic):
+        self.owner = owner  # for log lines
+        self.gate = Gate()
+        self.cond = threading.Condition()
+        self.sub = rospy.Subscriber(topic, Lockstep, self._on_report,
+                                    queue_size=None, tcp_nodelay=True)
+
+    def _on_report(self, msg):
+        name = sender(msg)
+        with self.cond:
+            change = self.gate.report(name, to_ns(msg.handled), to_ns(msg.next),
+                                      msg.commands)
+            self.cond.notify_all()
+        if change:
+            rospy.loginfo('%s: %s %s lockstep', self.owner, name,
+                          'joined' if change == 'joined' else 'left')
+
+    def command_from(self, msg):
+        """Count a cmd_vel message (call from the cmd_vel callback)."""
+        with self.cond:
+            self.gate.command_from(sender(msg))
+            self.cond.notify_all()
+
+    def next_tick(self):
+        """Earliest next tick of a member (ns), or None without members."""
+        with self.cond:
+            return self.gate.next_tick()
+
+    def has_members(self):
+        with self.cond:
+            return bool(self.gate.members)
+
+    def _drop_disconnected(self):
+        """Members whose connection closed (the node died) leave the gate."""
+        connected = [c.callerid_pub for c in self.sub.impl.connections]
+        for name in self.gate.keep_only(connected):
+            rospy.logwarn('%s: %s left lockstep without a word (node gone)',
+                          self.owner, name)
+
+    def wait_allows(self, time_ns):
+        """Wait (wall time) until simulated time may reach ``time_ns``.
+
+        Returns False if the node shuts down first. Every SLOW_MEMBER wall
+        seconds of waiting it logs who it waits for.
+        """
+        warn_at = time.monotonic() + SLOW_MEMBER
+        with self.cond:
+            while not rospy.is_shutdown():
+                if self.gate.allows(time_ns):
+                    return True
+                self.cond.wait(0.05)
+                if self.gate.blocking(time_ns):
+                    self._drop_disconnected()
+                if time.monotonic() > warn_at:
+                    warn_at += SLOW_MEMBER
+                    rospy.logwarn('%s: simulated time waits at %.3f s for %s',
+                                  self.owner, time_ns * 1e-9, ', '.join(
+                                      '%s (%r)' % (name, self.gate.members[name])
+                                      for name in self.gate.blocking(time_ns)))
+        return False
+
+
+class Reporter(object):
+    """A lockstep member: reports the steps it handled on ``topic``."""
+
+    def __init__(self, topic):
+        self.pub = rospy.Publisher(topic, Lockstep, queue_size=100)
+        self.commands = 0  # cmd_vel messages since joining (motion nodes)
+        self.joined = False
+
+    def connected(self):
+        """True once the gate's owner listens (a report would arrive)."""
+        return self.pub.get_num_connections() > 0
+
+    def report(self, handled_ns, next_ns):
+        """Handled ``handled_ns``; time must not pass ``next_ns`` before the
+        next report. The first report joins."""
+        if not self.joined:
+            self.commands = 0
+            self.joined = True
+        self.pub.publish(Lockstep(handled=from_ns(handled_ns),
+                                  next=from_ns(next_ns),
+                                  commands=self.commands))
+
+    def leave(self, handled_ns):
+        """Leave the lockstep (no-op when not a member, or after shutdown)."""
+        if not self.joined:
+            return
+        self.joined = False
+        try:
+            self.pub.publish(Lockstep(handled=from_ns(handled_ns),
+                                      commands=self.commands))
+        except rospy.ROSException:  # topics closed by shutdown: the
+            pass                    # closing connection says it instead
