@@ -84,6 +84,18 @@ class Gate(object):
             member.received += 1
             self._sweep()
 
+    def missing_commands(self, time):
+        """Names of the members that hold ``time`` back only for commands
+        that have not arrived."""
+        return sorted(name for name, m in self.members.items()
+                      if time <= m.next and m.received < m.commands)
+
+    def forgive(self, name):
+        """Stop waiting for ``name``'s missing commands (lost on the way)."""
+        member = self.members[name]
+        member.received = member.commands
+        self._sweep()
+
     def _sweep(self):
         """Forget members that left once their last commands arrived."""
         for name in [name for name, m in self.members.items()

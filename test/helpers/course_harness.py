@@ -11,6 +11,7 @@ Times are ROS times, so under /use_sim_time they are simulated seconds.
 import signal
 import subprocess
 import threading
+import time
 
 import rospy
 from geometry_msgs.msg import Twist
@@ -139,6 +140,7 @@ class CourseProcess(object):
         if rospy.has_param(self.node_name):
             rospy.delete_param(self.node_name)
         self.lines = []
+        self.line_times = []  # wall time (time.monotonic) each line arrived
         self.exit_time = None
         self.start_time = rospy.Time.now()
         self.proc = subprocess.Popen(args, stdout=subprocess.PIPE,
@@ -150,7 +152,15 @@ class CourseProcess(object):
 
     def _read(self):
         for line in self.proc.stdout:
+            self.line_times.append(time.monotonic())
             self.lines.append(line.rstrip())
+
+    def wall_time_of(self, text):
+        """Wall time (time.monotonic) the first line with ``text`` arrived."""
+        for line, when in zip(self.lines, self.line_times):
+            if text in line:
+                return when
+        return None
 
     @property
     def output(self):

@@ -85,3 +85,13 @@ def test_dead_members_are_dropped():
     assert gate.keep_only(['/b', '/other']) == ['/a']
     assert list(gate.members) == ['/b']
     assert gate.leave('/b') and not gate.leave('/b')
+
+
+def test_lost_commands_can_be_forgiven():
+    gate = Gate()
+    gate.report('/course', 50 * MS, 100 * MS, commands=3)
+    gate.command_from('/course')
+    assert gate.missing_commands(60 * MS) == ['/course']
+    assert gate.missing_commands(110 * MS) == []  # it owes a report too
+    gate.forgive('/course')
+    assert gate.allows(100 * MS)

@@ -23,6 +23,9 @@ NODE_TOPIC = 'lockstep'
 CLOCK_TOPIC = '/clock_lockstep'
 #: Wall seconds a keeper waits for a member before saying who it waits for.
 SLOW_MEMBER = 5.0
+#: Wall seconds after which commands a member reported are taken as lost
+#: (a connection that dropped them), so time does not stop for good.
+LOST_COMMANDS = 1.0
 
 
 def enabled():
@@ -94,7 +97,8 @@ class Keeper(object):
         Returns False if the node shuts down first. Every SLOW_MEMBER wall
         seconds of waiting it logs who it waits for.
         """
-        warn_at = time.monotonic() + SLOW_MEMBER
+        started = time.monotonic()
+        warn_at = started + SLOW_MEMBER
         with self.cond:
             while not rospy.is_shutdown():
                 if self.gate.allows(time_ns):
@@ -102,6 +106,12 @@ class Keeper(object):
                 self.cond.wait(0.05)
                 if self.gate.blocking(time_ns):
                     self._drop_disconnected()
+                if time.monotonic() - started > LOST_COMMANDS:
+                    for name in self.gate.missing_commands(time_ns):
+                        rospy.logwarn('%s: cmd_vel messages from %s lost on the '
+                                      'way (%r); going on without them',
+                                      self.owner, name, self.gate.members[name])
+                        self.gate.forgive(name)
                 if time.monotonic() > warn_at:
                     warn_at += SLOW_MEMBER
                     rospy.logwarn('%s: simulated time waits at %.3f s for %s',

@@ -26,6 +26,7 @@ import time
 import rosgraph
 import rospy
 import tf2_ros
+import yaml
 from geometry_msgs.msg import Twist
 
 from rbx1_nav import params
@@ -37,8 +38,8 @@ from rbx1_nav.transform_utils import Pose2D, normalize_angle, quat_to_angle
 
 BASE_FRAME_CANDIDATES = ('base_footprint', 'base_link')
 #: Lockstep: control ticks tried for one on which the simulator publishes
-#: the followed transform; after that the transform is taken to come from
-#: elsewhere (a filter) and the latest one is used, as without lockstep.
+#: the followed transform; after that the latest one is used, as without
+#: lockstep.
 SYNC_TRIES = 10
 
 
@@ -251,23 +252,33 @@ class MotionRunner(object):
         would shorten the first move of an open-loop course.
         """
         deadline = self._deadline(self.settings['tf_wait'])
-        while self.cmd_vel.get_num_connections() == 0 or not (
-                self.lockstep is None or self.lockstep.connected()):
+        while not self._listening():
             if rospy.is_shutdown():
                 raise rospy.ROSInterruptException('shutdown while waiting')
             if deadline.expired():
                 if self.cmd_vel.get_num_connections():
                     raise CourseAborted(
-                        '/lockstep is set but nothing takes lockstep reports '
-                        'on %s after %.1f s: start the simulator with '
-                        'lockstep too, or set /lockstep false'
-                        % (self.lockstep.pub.resolved_name,
+                        '/lockstep is set but the node taking %s does not '
+                        'take lockstep reports on %s after %.1f s: start the '
+                        'simulator with lockstep too, or set /lockstep false'
+                        % (self.cmd_vel.resolved_name,
+                           self.lockstep.pub.resolved_name,
                            self.settings['tf_wait']))
                 raise CourseAborted('nothing subscribes to %s after %.1f s: %s'
                                     % (self.cmd_vel.resolved_name,
                                        self.settings['tf_wait'],
                                        self._listener_hint()))
             deadline.poll(50)
+
+    def _listening(self):
+        """True once the driver takes cmd_vel; under lockstep, once the
+        simulator takes both cmd_vel and the reports (it counts every
+        command, so none may go out before its connection is up)."""
+        takers = {c.endpoint_id for c in self.cmd_vel.impl.connections}
+        if self.lockstep is None:
+            return bool(takers)
+        keepers = {c.endpoint_id for c in self.lockstep.pub.impl.connections}
+        return bool(keepers) and keepers <= takers
 
     def _deadline(self, seconds):
         return _Deadline(seconds, wall=self.lockstep is not None)
@@ -327,7 +338,7 @@ class MotionRunner(object):
         last_stamp = None
         fresh_at = rospy.Time.now()
         for now in self._ticks(blind):
-            reading = None if blind else self._reading(now)
+            reading = None if blind else self._reading(now, fresh_at + timeout)
             if reading is not None and (last_stamp is None
                                         or reading[1] > last_stamp):
                 pose, last_stamp = reading
@@ -364,46 +375,57 @@ class MotionRunner(object):
         period = int(round(1e9 / self.settings['rate']))
         now = lockstep.to_ns(rospy.Time.now())
         self.synced = False
-        tries = 0
+        tries = 0 if not blind and self._from_simulator() else SYNC_TRIES
         while not rospy.is_shutdown():
             tick = now + period
             self.lockstep.report(now, tick)
             rospy.sleep(lockstep.from_ns(tick) - rospy.Time.now())
-            if not (self.synced or blind) and tries < SYNC_TRIES:
+            if not self.synced and tries < SYNC_TRIES:
                 # Until the simulator steps at this node's ticks (it learns
                 # of them from the reports), send no command.
                 tries += 1
-                stamp = self._fresh_stamp(tick)
+                stamp = self._fresh_stamp(tick, rospy.Time.now() + rospy.Duration(
+                    self.settings['tf_timeout']))
                 self.synced = stamp == tick
-                if not self.synced and tries < SYNC_TRIES:
-                    now = max(lockstep.to_ns(rospy.Time.now()), stamp or 0)
-                    continue
                 if not self.synced:
-                    rospy.loginfo('%s: tf %s -> %s is not stamped on the '
-                                  'simulator\'s steps (a filter publishes '
-                                  'it?); following the latest transform',
-                                  self.name, self.odom_frame, self.followed)
+                    if tries < SYNC_TRIES:
+                        now = max(lockstep.to_ns(rospy.Time.now()), stamp or 0)
+                        continue
+                    rospy.logwarn('%s: the simulator did not step at this '
+                                  'node\'s ticks; following the latest '
+                                  'transform', self.name)
             yield lockstep.from_ns(tick)
             now = tick
 
-    def _fresh_stamp(self, tick):
-        """Under lockstep: wait up to ~tf_timeout (wall) for a transform
-        stamped at ``tick`` ns or later; the latest stamp (ns) or None."""
+    def _from_simulator(self):
+        """True if the followed transform comes from the simulator this node
+        reports to (not from a filter, whose stamps are not its steps)."""
+        frames = yaml.safe_load(self.tf_buffer.all_frames_as_yaml()) or {}
+        broadcaster = frames.get(self.followed, {}).get('broadcaster')
+        return broadcaster in {c.endpoint_id
+                               for c in self.lockstep.pub.impl.connections}
+
+    def _fresh_stamp(self, tick, give_up):
+        """Under lockstep: wait for a transform stamped at ``tick`` ns or
+        later, or until ROS time passes ``give_up`` (the simulator is gone
+        and the clock runs without it); the latest stamp (ns) or None."""
         def latest():
             reading = self.lookup()
             return None if reading is None else lockstep.to_ns(reading[1])
 
-        self.tf_listener.wait(lambda: (latest() or 0) >= tick,
-                              self.settings['tf_timeout'])
+        while not rospy.is_shutdown():
+            if self.tf_listener.wait(lambda: (latest() or 0) >= tick, 0.01):
+                break
+            if rospy.Time.now() > give_up:
+                break
         return latest()
 
-    def _reading(self, now):
+    def _reading(self, now, give_up):
         """(pose, stamp) for the tick at ``now``: under lockstep, the
-        simulator's step at that very time."""
+        simulator's step at that very time (waiting until ROS time
+        ``give_up`` for it)."""
         if self.synced:
-            stamp = self._fresh_stamp(lockstep.to_ns(now))
-            if stamp is None or stamp < lockstep.to_ns(now):
-                self.synced = False  # the simulator is gone or restarted
+            self._fresh_stamp(lockstep.to_ns(now), give_up)
         return self.lookup()
 
     def summarize(self, course, final):
