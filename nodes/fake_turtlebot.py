@@ -144,6 +144,8 @@ class FakeTurtleBot:
         if lockstep.enabled():
             self.keeper = lockstep.Keeper(rospy.get_name(), lockstep.NODE_TOPIC)
             self.reporter = lockstep.Reporter(lockstep.CLOCK_TOPIC)
+            rospy.on_shutdown(lambda: self.reporter.leave(
+                lockstep.to_ns(rospy.Time.now())))
         # Every command counts under lockstep, so none may be dropped.
         rospy.Subscriber('cmd_vel', Twist, self.on_cmd_vel, queue_size=100,
                          tcp_nodelay=True)
