@@ -48,7 +48,7 @@ def main():
         rospy.logwarn("sim_clock: ~speed max without /lockstep has nothing to "
                       "wait for: running at real time")
         pacer.set_speed(1.0)
-    pub = rospy.Publisher('/clock', Clock, queue_size=10)
+    pub = lockstep.synchronous_publisher('/clock', Clock)
     while not rospy.is_shutdown():
         if keeper is not None and speed is None:
             pacer.set_speed(None if keeper.has_members() else 1.0)

@@ -8,6 +8,7 @@ restart it. ``RobotWatch`` follows one robot's ``ground_truth`` (the simulator's
 pose) and ``cmd_vel`` (what the course commanded), optionally in a namespace.
 Times are ROS times, so under /use_sim_time they are simulated seconds.
 """
+import os
 import signal
 import subprocess
 import threading
@@ -143,7 +144,9 @@ class CourseProcess(object):
         self.line_times = []  # wall time (time.monotonic) each line arrived
         self.exit_time = None
         self.start_time = rospy.Time.now()
-        self.proc = subprocess.Popen(args, stdout=subprocess.PIPE,
+        # Unbuffered, so each line arrives (and is timed) when it is logged.
+        self.proc = subprocess.Popen(args, env=dict(os.environ, PYTHONUNBUFFERED='1'),
+                                     stdout=subprocess.PIPE,
                                      stderr=subprocess.STDOUT,
                                      universal_newlines=True)
         self.reader = threading.Thread(target=self._read)

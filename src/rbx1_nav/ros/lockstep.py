@@ -10,6 +10,7 @@ reports each step it handled, and leaves.
 """
 import threading
 import time
+import warnings
 
 import rospy
 
@@ -47,6 +48,16 @@ def from_ns(ns):
 def sender(msg):
     """The node name that published ``msg`` (rospy keeps it per message)."""
     return msg._connection_header['callerid']
+
+
+def synchronous_publisher(topic, msg_class):
+    """A publisher that writes each message before publish() returns, with
+    no Nagle delay: lockstep waits for every message, so a hand-off to
+    rospy's queue thread would only add latency to each step."""
+    with warnings.catch_warnings():  # queue_size None is the point here
+        warnings.simplefilter('ignore', SyntaxWarning)
+        return rospy.Publisher(topic, msg_class, queue_size=None,
+                               tcp_nodelay=True)
 
 
 class Keeper(object):
@@ -125,7 +136,7 @@ class Reporter(object):
     """A lockstep member: reports the steps it handled on ``topic``."""
 
     def __init__(self, topic):
-        self.pub = rospy.Publisher(topic, Lockstep, queue_size=100)
+        self.pub = synchronous_publisher(topic, Lockstep)
         self.commands = 0  # cmd_vel messages since joining (motion nodes)
         self.joined = False
 

@@ -119,7 +119,8 @@ class MotionRunner(object):
         self.odom_frame = settings['odom_frame']
         self.base_frame = settings['base_frame']  # '' = automatic
         self.followed = None  # the base frame found on tf
-        self.cmd_vel = rospy.Publisher('cmd_vel', Twist, queue_size=5)
+        self.cmd_vel = rospy.Publisher('cmd_vel', Twist, queue_size=5,
+                                       tcp_nodelay=True)
         self.lock = threading.Lock()
         self.halted = False
         # on_shutdown hooks run before rospy closes its topics (Ctrl-C,

@@ -1,0 +1,379 @@
+#!/usr/bin/env python3
+"""make bench: accuracy, speed, CPU and scale of the courses, in one run.
+
+Every figure comes from the same run on the same machine, so ratios between
+rows mean something; absolute times depend on the machine and its load.
+Each course runs the way a user runs it: a fresh master, the fake robot
+from ``fake_turtlebot.launch`` (or ``fake_turtlebot_ekf.launch``), then
+``rosrun rbx1_nav odom_out_and_back.py``; the final error is read from the
+simulator's ``ground_truth`` after the course (the robot starts at the
+origin, and the out-and-back course ends where it began).
+
+Sections (``--sections``, all by default):
+
+- accuracy: ``--runs`` runs each of {default, precise} x {ideal,
+  realistic, realistic + pose_ekf}, lockstep at full speed; realistic runs
+  use seeds 1..runs. Median and max final error.
+- speed: the default course at 1x, 10x and max, lockstep and free-running
+  (free-running "max" is the speed lockstep reached); course wall time,
+  speed-up, final error.
+- cpu: CPU seconds per simulated second of every node, default course,
+  lockstep at 1x.
+- scale: N robots at 1x, separate processes and one fake_fleet
+  (bench/fleet_scale.py).
+
+Writes bench/results/latest.md, latest.json and latest.png, and prints the
+table. Usage: make bench [BENCH_ARGS="--sections speed --runs 3"]
+"""
+import argparse
+import json
+import math
+import os
+import re
+import signal
+import socket
+import statistics
+import subprocess
+import sys
+import time
+
+import yaml
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+RESULTS = os.path.join(HERE, 'results')
+SUMMARY = re.compile(r'Course complete in ([\d.]+) s')
+#: Targets shown beside each row (GUIDE and issue 12).
+TARGETS = {
+    'default': 'within 20 mm, 2.5 deg (ideal)',
+    'precise': 'within 3 mm, 0.3 deg (ideal)',
+    'speed': 'same end pose at every speed (0.1 mm, 0.01 deg)',
+    'scale': 'every course within 20 mm, 1.5 deg',
+}
+
+
+def free_port():
+    with socket.socket() as sock:
+        sock.bind(('localhost', 0))
+        return sock.getsockname()[1]
+
+
+def cpu_seconds(pid):
+    """User + system CPU seconds of a process (0 once it is gone)."""
+    try:
+        with open('/proc/%d/stat' % pid) as f:
+            fields = f.read().rsplit(')', 1)[1].split()
+    except OSError:
+        return 0.0
+    return (int(fields[11]) + int(fields[12])) / os.sysconf('SC_CLK_TCK')
+
+
+def processes(root):
+    """{pid: node name} of ``root`` and its descendants (roslaunch puts
+    each node in a session of its own, so process groups do not do)."""
+    parents = {}
+    for entry in os.listdir('/proc'):
+        if entry.isdigit():
+            try:
+                with open('/proc/%s/stat' % entry) as f:
+                    parents[int(entry)] = int(f.read().rsplit(')', 1)[1].split()[1])
+            except OSError:
+                pass
+    family, grew = {root}, True
+    while grew:
+        more = {pid for pid, parent in parents.items() if parent in family} - family
+        family |= more
+        grew = bool(more)
+    found = {}
+    for pid in family:
+        try:
+            with open('/proc/%d/cmdline' % pid) as f:
+                argv = f.read().split('\0')
+        except OSError:
+            continue
+        names = [a.split(':=', 1)[1] for a in argv if a.startswith('__name:=')]
+        if names:
+            found[pid] = names[0]
+        elif any(a.endswith('rosmaster') for a in argv):
+            found[pid] = 'rosmaster'
+        elif any(a.endswith('.py') for a in argv[:3]):
+            found[pid] = os.path.basename(next(a for a in argv if a.endswith('.py')))[:-3]
+    return found
+
+
+class Graph(object):
+    """A master, a launch file and the processes they start (one run)."""
+
+    def __init__(self, launch, args):
+        self.env = dict(os.environ, ROS_MASTER_URI='http://localhost:%d' % free_port())
+        self.env.pop('ROS_NAMESPACE', None)
+        self.env['PYTHONUNBUFFERED'] = '1'  # lines arrive (and are timed) as logged
+        port = self.env['ROS_MASTER_URI'].rsplit(':', 1)[1]
+        self.launch = subprocess.Popen(
+            ['roslaunch', '-p', port, 'rbx1_nav', launch]
+            + ['%s:=%s' % kv for kv in sorted(args.items())],
+            env=self.env, stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT,
+            start_new_session=True)
+        self.groups = [self.launch.pid]
+
+    def run(self, script, params, wall_limit):
+        """Run a course node to its end; return its lines and timings."""
+        cmd = ['rosrun', 'rbx1_nav', script] + [
+            '_%s:=%s' % kv for kv in sorted(params.items())]
+        proc = subprocess.Popen(cmd, env=self.env, stdout=subprocess.PIPE,
+                                stderr=subprocess.STDOUT, universal_newlines=True,
+                                start_new_session=True)
+        self.groups.append(proc.pid)
+        lines, started, ended, cpu_start = [], None, None, None
+        deadline = time.monotonic() + wall_limit
+        for line in proc.stdout:
+            lines.append(line.rstrip())
+            if started is None and 'Following tf' in line:
+                started, cpu_start = time.monotonic(), self.cpu()
+            if SUMMARY.search(line):
+                ended, cpu_end = time.monotonic(), self.cpu()
+            if time.monotonic() > deadline:
+                proc.kill()
+                break
+        proc.wait()
+        result = dict(status=proc.returncode, output=lines[-5:])
+        match = next((SUMMARY.search(l) for l in lines if SUMMARY.search(l)), None)
+        if match and started is not None:
+            result.update(sim_s=float(match.group(1)), wall_s=ended - started,
+                          cpu={name: cpu_end.get(name, 0.0) - cpu_start.get(name, 0.0)
+                               for name in cpu_end})
+        return result
+
+    def cpu(self):
+        """{node name: CPU seconds so far} over the run's processes."""
+        totals = {}
+        for group in self.groups:
+            for pid, name in processes(group).items():
+                totals[name] = totals.get(name, 0.0) + cpu_seconds(pid)
+        return totals
+
+    def truth(self, topic='ground_truth'):
+        """(x, y, yaw) of the simulator's next ground_truth message."""
+        out = subprocess.run(['rostopic', 'echo', '-n', '1', topic + '/pose/pose'],
+                             env=self.env, stdout=subprocess.PIPE,
+                             universal_newlines=True, timeout=30).stdout
+        pose = yaml.safe_load(out.split('---')[0])
+        q = pose['orientation']
+        yaw = math.atan2(2.0 * (q['w'] * q['z'] + q['x'] * q['y']),
+                         1.0 - 2.0 * (q['y'] ** 2 + q['z'] ** 2))
+        return pose['position']['x'], pose['position']['y'], yaw
+
+    def close(self):
+        for group in reversed(self.groups):
+            try:
+                os.killpg(group, signal.SIGINT)
+            except ProcessLookupError:
+                pass
+        try:
+            self.launch.wait(15)
+        except subprocess.TimeoutExpired:
+            os.killpg(self.launch.pid, signal.SIGKILL)
+            self.launch.wait()
+
+
+def course(setup='ideal', mode='default', speed='max', lockstep=True, seed=None):
+    """One out-and-back course; a result dict (errors on ground truth)."""
+    launch = 'fake_turtlebot_ekf.launch' if setup == 'pose_ekf' else 'fake_turtlebot.launch'
+    args = dict(sim_speed=speed, model='false')
+    if setup != 'pose_ekf':
+        args.update(lockstep=lockstep, realistic=setup == 'realistic')
+    if seed is not None and setup != 'ideal':
+        args['seed'] = seed
+    graph = Graph(launch, args)
+    try:
+        params = {'precise': mode == 'precise', 'tf_wait': 30.0}
+        if not lockstep:  # a node behind the clock must not abort
+            params['tf_timeout'] = 5.0
+        result = graph.run('odom_out_and_back.py', params, wall_limit=600)
+        if result['status'] == 0:
+            x, y, yaw = graph.truth()
+            result.update(error_mm=1000.0 * math.hypot(x, y),
+                          heading_deg=math.degrees(yaw))
+    finally:
+        graph.close()
+    result.update(setup=setup, mode=mode, speed=speed, lockstep=lockstep, seed=seed)
+    return result
+
+
+def log(text):
+    sys.stderr.write(text + '\n')
+    sys.stderr.flush()
+
+
+def describe(result):
+    if 'error_mm' not in result:
+        return 'FAILED (exit %s): %s' % (result['status'], ' | '.join(result['output']))
+    return '%.1f mm, %+.2f deg, %.1f s sim in %.1f s wall' % (
+        result['error_mm'], result['heading_deg'], result['sim_s'], result['wall_s'])
+
+
+def accuracy(runs):
+    rows = []
+    for mode in ('default', 'precise'):
+        for setup in ('ideal', 'realistic', 'pose_ekf'):
+            results = []
+            for i in range(runs):
+                result = course(setup, mode, seed=i + 1)
+                log('accuracy %s %s run %d: %s' % (mode, setup, i + 1, describe(result)))
+                results.append(result)
+            ok = [r for r in results if 'error_mm' in r]
+            pos = [r['error_mm'] for r in ok]
+            head = [abs(r['heading_deg']) for r in ok]
+            rows.append(dict(
+                mode=mode, setup=setup, runs=runs, completed=len(ok),
+                median_mm=statistics.median(pos) if ok else None,
+                max_mm=max(pos) if ok else None,
+                median_deg=statistics.median(head) if ok else None,
+                max_deg=max(head) if ok else None,
+                target=TARGETS[mode] if setup == 'ideal' else 'reported'))
+    return rows
+
+
+def speed():
+    rows = []
+    for lockstep in (True, False):
+        for speed in ('1', '10', 'max'):
+            if speed == 'max' and not lockstep:
+                # Free-running at the speed lockstep reached at max.
+                reached = next(r for r in rows if r['speed'] == 'max')
+                speed = '%.0f' % max(1.0, reached.get('speedup') or 1.0)
+            result = course('ideal', 'default', speed, lockstep)
+            log('speed %s %sx: %s' % ('lockstep' if lockstep else 'free',
+                                       speed, describe(result)))
+            row = dict(lockstep=lockstep, speed=speed, completed=result['status'] == 0,
+                       error_mm=result.get('error_mm'),
+                       heading_deg=result.get('heading_deg'),
+                       sim_s=result.get('sim_s'), wall_s=result.get('wall_s'),
+                       target=TARGETS['speed'] if lockstep else 'reported')
+            if row['wall_s']:
+                row['speedup'] = row['sim_s'] / row['wall_s']
+            if lockstep and speed == '1':
+                row['cpu_per_sim_s'] = {n: c / result['sim_s']
+                                        for n, c in sorted(result['cpu'].items())}
+            rows.append(row)
+    return rows
+
+
+def scale(counts):
+    sys.path.insert(0, HERE)
+    import fleet_scale
+    rows = []
+    for n in counts:
+        for separate in (True, False):
+            row = fleet_scale.run(n, separate=separate)
+            log('scale %d robots (%s): %r' % (n, 'separate' if separate else 'fleet', row))
+            row['target'] = TARGETS['scale']
+            rows.append(row)
+    return rows
+
+
+def fmt(value, spec='%.1f'):
+    return '-' if value is None else spec % value
+
+
+def markdown(results):
+    out = ['# rbx1_nav bench', '',
+           'Machine: %d cores; %s. One run of `make bench`; compare rows, not '
+           'machines.' % (os.cpu_count(), time.strftime('%Y-%m-%d %H:%M')), '']
+    if 'accuracy' in results:
+        out += ['## Accuracy (lockstep, full speed; final error on ground truth)', '',
+                '| course | robot | completed | median | max | target |',
+                '|---|---|---|---|---|---|']
+        for r in results['accuracy']:
+            out.append('| %s | %s | %d/%d | %s mm, %s deg | %s mm, %s deg | %s |' % (
+                r['mode'], r['setup'], r['completed'], r['runs'], fmt(r['median_mm']),
+                fmt(r['median_deg'], '%.2f'), fmt(r['max_mm']), fmt(r['max_deg'], '%.2f'),
+                r['target']))
+        out.append('')
+    if 'speed' in results:
+        out += ['## Speed (default course, ideal robot)', '',
+                '| time | asked | course wall time | speed-up | final error | target |',
+                '|---|---|---|---|---|---|']
+        for r in results['speed']:
+            out.append('| %s | %sx | %s s | %s x | %s mm, %s deg | %s |' % (
+                'lockstep' if r['lockstep'] else 'free-running', r['speed'],
+                fmt(r['wall_s']), fmt(r.get('speedup')), fmt(r['error_mm'], '%.2f'),
+                fmt(r['heading_deg'], '%+.3f'), r['target']))
+        cpu = next((r['cpu_per_sim_s'] for r in results['speed'] if 'cpu_per_sim_s' in r), None)
+        if cpu:
+            out += ['', '## CPU seconds per simulated second (lockstep, 1x)', '',
+                    '| node | CPU s / sim s |', '|---|---|']
+            out += ['| %s | %.3f |' % (n, c) for n, c in sorted(cpu.items(), key=lambda i: -i[1])]
+        out.append('')
+    if 'scale' in results:
+        out += ['## Scale (1x, default course per robot)', '',
+                '| robots | simulators | completed | worst error | control rate min / median | total CPU s | target |',
+                '|---|---|---|---|---|---|---|']
+        for r in results['scale']:
+            out.append('| %d | %s | %d/%d | %s mm, %s deg | %s / %s Hz | %s | %s |' % (
+                r['n'], 'separate' if r['separate'] else 'fake_fleet', r['completed'], r['n'],
+                fmt(r.get('worst_mm')), fmt(r.get('worst_deg'), '%.2f'),
+                fmt(r.get('rate_min')), fmt(r.get('rate_median')), fmt(r.get('cpu_s')),
+                r['target']))
+        out.append('')
+    return '\n'.join(out)
+
+
+def plot(results, path):
+    import matplotlib
+    matplotlib.use('Agg')
+    import matplotlib.pyplot as plt
+    panels = [k for k in ('speed', 'scale') if k in results]
+    if not panels:
+        return
+    fig, axes = plt.subplots(1, len(panels), figsize=(6 * len(panels), 4.5), squeeze=False)
+    for ax, key in zip(axes[0], panels):
+        if key == 'speed':
+            for lockstep in (True, False):
+                rows = [r for r in results['speed'] if r['lockstep'] == lockstep and r.get('speedup')]
+                ax.plot([r['speedup'] for r in rows], [r['error_mm'] for r in rows], 'o-',
+                        label='lockstep' if lockstep else 'free-running')
+            ax.set_xlabel('achieved speed-up (sim s / wall s)')
+            ax.set_ylabel('final position error (mm)')
+            ax.set_title('Default course: error vs speed')
+        else:
+            for separate in (True, False):
+                rows = [r for r in results['scale'] if r['separate'] == separate]
+                ax.plot([r['n'] for r in rows], [r.get('worst_mm') or float('nan') for r in rows],
+                        'o-', label='separate processes' if separate else 'fake_fleet')
+            ax.axhline(20.0, color='grey', ls='--', label='20 mm target')
+            ax.set_xlabel('robots at 1x')
+            ax.set_ylabel('worst final error (mm)')
+            ax.set_title('Fleet scale')
+        ax.grid(True, alpha=0.3)
+        ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    parser.add_argument('--sections', nargs='+', default=['accuracy', 'speed', 'scale'],
+                        choices=['accuracy', 'speed', 'scale'])
+    parser.add_argument('--runs', type=int, default=10)
+    parser.add_argument('--robots', type=int, nargs='+', default=[1, 10, 20, 40, 80])
+    parser.add_argument('--out', default=RESULTS)
+    args = parser.parse_args()
+    results = {}
+    if 'accuracy' in args.sections:
+        results['accuracy'] = accuracy(args.runs)
+    if 'speed' in args.sections:
+        results['speed'] = speed()
+    if 'scale' in args.sections:
+        results['scale'] = scale(args.robots)
+    os.makedirs(args.out, exist_ok=True)
+    table = markdown(results)
+    with open(os.path.join(args.out, 'latest.md'), 'w') as f:
+        f.write(table + '\n\n![bench](latest.png)\n')
+    with open(os.path.join(args.out, 'latest.json'), 'w') as f:
+        json.dump(results, f, indent=1, default=str)
+    plot(results, os.path.join(args.out, 'latest.png'))
+    print(table)
+
+
+if __name__ == '__main__':
+    main()
