@@ -195,8 +195,10 @@ class FakeTurtleBot:
                     next_tick += period
             try:
                 rospy.sleep(period if next_tick is None else next_tick - rospy.Time.now())
-            except rospy.ROSTimeMovedBackwardsException:
-                rospy.logwarn('fake_turtlebot: ROS time moved backwards; restarting')
+            except rospy.ROSTimeMovedBackwardsException as err:
+                rospy.logwarn('fake_turtlebot: ROS time moved backwards by %.1f s: a '
+                              'bag looping or the simulator restarted? Restarting '
+                              'from the new time', err.time)
                 next_tick = None
             except rospy.ROSInterruptException:
                 break
@@ -225,8 +227,10 @@ class FakeTurtleBot:
             self.reporter.report(now, target)
             try:
                 rospy.sleep(lockstep.from_ns(target) - rospy.Time.now())
-            except rospy.ROSTimeMovedBackwardsException:
-                rospy.logwarn('fake_turtlebot: ROS time moved backwards; restarting')
+            except rospy.ROSTimeMovedBackwardsException as err:
+                rospy.logwarn('fake_turtlebot: ROS time moved backwards by %.1f s: a '
+                              'bag looping or the simulator restarted? Restarting '
+                              'from the new time', err.time)
                 grid = 0
             except rospy.ROSInterruptException:
                 return

@@ -9,6 +9,7 @@ time, reads and checks the node's declared private parameters
 :func:`until_shutdown` runs a node's main loop; :func:`exit_node` is a
 node's last line.
 """
+import os
 import signal
 import sys
 import threading
@@ -144,7 +145,27 @@ def until_shutdown(loop):
             raise
 
 
+#: Wall seconds rospy's shutdown may take (it unregisters from the master)
+#: before the node exits without it.
+SHUTDOWN_LIMIT = 2.0
+
+
 def exit_node(name, status):
-    """Shut rospy down and exit with ``status`` (the last line of a node)."""
-    rospy.signal_shutdown('%s finished' % name)
+    """Shut rospy down and exit with ``status`` (the last line of a node).
+
+    Shutdown hooks run first (a motion node's stop goes out); rospy then
+    unregisters from the master over a connection without a timeout, which
+    hangs for minutes when the master is unreachable. After SHUTDOWN_LIMIT
+    wall seconds the node exits anyway; the master drops it when it next
+    fails to reach it.
+    """
+    done = threading.Thread(target=rospy.signal_shutdown, daemon=True,
+                            args=('%s finished' % name,))
+    done.start()
+    done.join(SHUTDOWN_LIMIT)
+    if done.is_alive():
+        sys.stderr.write('%s: the master at %s does not answer; exiting without '
+                         'unregistering\n' % (name, rosgraph.get_master_uri()))
+        sys.stderr.flush()
+        os._exit(status)
     raise SystemExit(status)

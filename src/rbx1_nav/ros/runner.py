@@ -458,6 +458,9 @@ def guarded(name, runner, work):
         return 0
     except CourseAborted as err:
         rospy.logerr('%s: %s', name, err)
+    except rospy.ROSTimeMovedBackwardsException as err:
+        rospy.logerr('%s: ROS time moved backwards by %.1f s: a bag looping or '
+                     'the simulator restarted? Stopped the robot.', name, err.time)
     except rospy.ROSInterruptException:
         rospy.logwarn('%s: interrupted; robot stopped', name)
     except Exception as err:  # log it, stop the robot, exit non-zero

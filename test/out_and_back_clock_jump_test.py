@@ -1,0 +1,70 @@
+#!/usr/bin/env python3
+"""ROS time jumps back mid-course: the node names it, stops and exits 1.
+
+Run by out_and_back_clock_jump.test. Once the robot is well into its first
+leg, the test replaces sim_clock by one that starts ~jump seconds earlier
+(a looping bag, a restarted simulator). The course node must log "ROS time
+moved backwards by <jump> s", leave the robot stopped (its last cmd_vel a
+zero Twist) and exit 1; the simulator must keep publishing from the new
+time. The course's ~tf_timeout is 5 s so the node's dead-clock watchdog
+(max(2 s, ~tf_timeout) of wall time) does not fire while the clock restarts.
+"""
+import os
+import re
+import subprocess
+import sys
+import unittest
+
+import rospy
+import rostest
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), 'helpers'))
+from course_harness import (CourseProcess, RobotWatch,  # noqa: E402
+                            is_zero, wait_until)
+
+
+class ClockJumpTest(unittest.TestCase):
+
+    def test_time_moving_backwards_stops_the_course(self):
+        jump = float(rospy.get_param('~jump'))
+        watch = RobotWatch()
+        start = watch.wait_for_truth()
+        course = CourseProcess(params={'tf_timeout': 5.0})
+        clock = None
+        try:
+            self.assertTrue(wait_until(lambda: watch.moved_since(start) > 0.3
+                                       or not course.running()),
+                            'robot never moved')
+            self.assertTrue(course.running(), course.output)
+            subprocess.check_call(['rosnode', 'kill', '/sim_clock'])
+            back_to = watch.truth.header.stamp.to_sec() - jump
+            clock = subprocess.Popen(
+                ['rosrun', 'rbx1_nav', 'sim_clock.py', '__name:=sim_clock',
+                 '_speed:=5', '_start_time:=%.3f' % back_to],
+                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            status = course.wait()
+            self.assertTrue(wait_until(
+                lambda: watch.truth.header.stamp.to_sec() < back_to + jump / 2,
+                wall_limit=10.0), 'the simulator stopped at the jump')
+        finally:
+            course.cleanup()
+            if clock:
+                clock.terminate()
+                clock.wait()
+        out = course.output
+        _, last = watch.last_command()
+        found = re.search(r'ROS time moved backwards by ([\d.]+) s', out)
+        print('RESULT clock_jump exit=%d, logged %r, last cmd_vel zero: %s'
+              % (status, found and found.group(0),
+                 last is not None and is_zero(last)))
+        self.assertEqual(status, 1, out)
+        self.assertIsNotNone(found, out)
+        self.assertAlmostEqual(float(found.group(1)), jump, delta=1.0)
+        self.assertIn('a bag looping or the simulator restarted?', out)
+        self.assertTrue(last is not None and is_zero(last),
+                        'last cmd_vel was %s' % last)
+
+
+if __name__ == '__main__':
+    rospy.init_node('out_and_back_clock_jump_test')
+    rostest.rosrun('rbx1_nav', 'out_and_back_clock_jump', ClockJumpTest)
