@@ -17,6 +17,12 @@ Three views of the same motion are kept apart:
 * a **gyro** measures the true yaw rate plus bias and noise, independent of
   the odometry errors.
 
+The model steps a whole fleet at once: :class:`DiffDriveFleet` holds N
+robots of one configuration in numpy arrays (one row per robot), so N robots
+cost one array operation per step (nodes/fake_fleet.py); a
+:class:`FleetRobot` reads one robot's row as scalars. :class:`DiffDriveSim`,
+the single robot of nodes/fake_turtlebot.py, is a fleet of one read that way.
+
 Time is plain float seconds supplied by the caller (the node passes ROS time),
 so the model behaves identically at any simulation speed. No rospy here.
 """
@@ -29,8 +35,8 @@ import numpy as np
 from rbx1_nav.params import integer, number
 from rbx1_nav.transform_utils import Pose2D
 
-__all__ = ['DiffDriveConfig', 'DiffDriveSim', 'arc_step',
-           'covariance_from_diagonal',
+__all__ = ['DiffDriveConfig', 'DiffDriveSim', 'DiffDriveFleet', 'FleetRobot',
+           'arc_step', 'arc_steps', 'wrap_angles', 'covariance_from_diagonal',
            'DEFAULT_COVARIANCE_DIAGONAL', 'CONFIG_LIMITS']
 
 # x, y, z, roll, pitch, yaw. A planar base observes only x, y and yaw; the
@@ -39,8 +45,15 @@ DEFAULT_COVARIANCE_DIAGONAL = (1e-3, 1e-3, 1e6, 1e6, 1e6, 1e-3)
 
 
 
-def arc_step(pose, ds, dtheta):
-    """The pose after travelling ``ds`` metres while turning ``dtheta`` rad.
+def wrap_angles(angles):
+    """``angles`` (rad, an array) wrapped to [-pi, pi], as math.remainder does."""
+    angles = np.asarray(angles, dtype=float)
+    return angles - 2.0 * math.pi * np.round(angles / (2.0 * math.pi))
+
+
+def arc_steps(poses, ds, dtheta):
+    """The poses (an (N, 3) array of x, y, yaw) after travelling ``ds``
+    metres while turning ``dtheta`` rad (arrays of N).
 
     The path is a circular arc (a straight line when ``dtheta`` is 0), which
     is what a differential drive traces at constant (v, w): exact, unlike
@@ -48,11 +61,19 @@ def arc_step(pose, ds, dtheta):
     and points along the mean heading; numpy's sinc keeps that well defined
     at ``dtheta == 0``.
     """
-    chord = ds * float(np.sinc(dtheta / (2.0 * math.pi)))
-    heading = pose.yaw + 0.5 * dtheta
-    return Pose2D(pose.x + chord * math.cos(heading),
-                  pose.y + chord * math.sin(heading),
-                  math.remainder(pose.yaw + dtheta, 2.0 * math.pi))
+    chord = ds * np.sinc(dtheta / (2.0 * math.pi))
+    heading = poses[:, 2] + 0.5 * dtheta
+    return np.column_stack((poses[:, 0] + chord * np.cos(heading),
+                            poses[:, 1] + chord * np.sin(heading),
+                            wrap_angles(poses[:, 2] + dtheta)))
+
+
+def arc_step(pose, ds, dtheta):
+    """One Pose2D after travelling ``ds`` m while turning ``dtheta`` rad:
+    :func:`arc_steps` for a single robot."""
+    row = arc_steps(np.array([pose], dtype=float), np.array([float(ds)]),
+                    np.array([float(dtheta)]))[0]
+    return Pose2D(*(float(c) for c in row))
 
 
 def covariance_from_diagonal(diagonal):
@@ -183,49 +204,67 @@ def _max_change(accel_limit, dt):
 
 
 def _approach(current, target, max_change):
-    """``target``, or ``current`` moved toward it by at most ``max_change``.
+    """``target``, or ``current`` moved toward it by at most ``max_change``
+    (arrays of N speeds).
 
     The result never passes ``target``, not even by a rounding error, so a
     speed at its limit stays within it.
     """
-    if abs(target - current) <= max_change:
-        return target
-    moved = current + math.copysign(max_change, target - current)
-    return min(max(moved, min(current, target)), max(current, target))
+    moved = current + np.copysign(max_change, target - current)
+    moved = np.clip(moved, np.minimum(current, target), np.maximum(current, target))
+    return np.where(np.abs(target - current) <= max_change, target, moved)
 
 
-class DiffDriveSim:
-    """The simulated base: feed it commands and times, read its state.
+class DiffDriveFleet:
+    """N simulated bases of one configuration: feed them commands and
+    times, read their state (row i is robot i).
 
-    Call :meth:`command` for every cmd_vel and :meth:`step` at the control
-    rate. Each step holds one velocity over the interval since the previous
-    step (zero-order hold), chosen from the newest command executable by the
-    step's time, so a command takes effect within one step of arriving and
-    the watchdog stops the base within ``cmd_timeout`` plus one step.
+    Call :meth:`command` for every cmd_vel of robot i and :meth:`step` at the
+    control rate: every robot steps at the same times. Each step holds one
+    velocity per robot over the interval since the previous step
+    (zero-order hold), chosen from the robot's newest command executable by
+    the step's time, so a command takes effect within one step of arriving
+    and the watchdog stops a robot within ``cmd_timeout`` plus one step of
+    its last command.
+
+    State, arrays with one row per robot: ``truth`` and ``odom`` (N, 3: x,
+    y, yaw), ``velocity`` and ``odom_velocity`` (N, 2: v, w),
+    ``wheel_angles`` and ``wheel_velocities`` (N, 2: left, right),
+    ``gyro_rate`` and ``gyro_yaw`` (N), ``timed_out`` (N, bool). The noise
+    of all robots comes from one generator seeded by ``config.seed``, drawn
+    for the whole fleet each step.
     """
 
-    def __init__(self, config=None):
+    def __init__(self, size, config=None):
         self.config = config or DiffDriveConfig()
         problems = self.config.problems()
         if problems:
             raise ValueError('invalid fake robot parameters: ' + '; '.join(problems))
+        if isinstance(size, bool) or not isinstance(size, int) or size < 1:
+            raise ValueError('a fleet needs at least one robot, got %r' % (size,))
+        self.size = size
         self._rng = np.random.default_rng(self.config.seed)
-        self._pending = deque()        # (executable at, v, w), in arrival order
-        self._cmd = (0.0, 0.0)
-        self._cmd_time = None          # when the executing command became due
+        # Per robot: (executable at, v, w) in arrival order.
+        self._pending = [deque() for _ in range(size)]
+        self._cmd = np.zeros((size, 2))
+        self._cmd_time = np.full(size, np.nan)  # when the executing command became due
         self._time = None
-        self.timed_out = False         # True while the watchdog holds the base
-        self.truth = Pose2D()
-        self.odom = Pose2D()
-        self.velocity = (0.0, 0.0)     # true (v, w) over the last step
-        self.odom_velocity = (0.0, 0.0)
-        self.wheel_angles = [0.0, 0.0]       # left, right encoder readings, rad
-        self.wheel_velocities = [0.0, 0.0]   # rad/s over the last step
-        self.gyro_rate = 0.0           # rad/s, measured
-        self.gyro_yaw = 0.0            # rad, integral of the measured rate
+        self.timed_out = np.zeros(size, dtype=bool)  # True while the watchdog holds a base
+        self.truth = np.zeros((size, 3))
+        self.odom = np.zeros((size, 3))
+        self.velocity = np.zeros((size, 2))        # true (v, w) over the last step
+        self.odom_velocity = np.zeros((size, 2))
+        self.wheel_angles = np.zeros((size, 2))      # encoder readings, rad
+        self.wheel_velocities = np.zeros((size, 2))  # rad/s over the last step
+        self.gyro_rate = np.zeros(size)            # rad/s, measured
+        self.gyro_yaw = np.zeros(size)             # rad, integral of the measured rate
 
-    def command(self, v, w, stamp):
-        """Queue a velocity command received at ``stamp`` seconds.
+    def robot(self, index):
+        """Robot ``index`` read as scalars: a :class:`FleetRobot`."""
+        return FleetRobot(self, index)
+
+    def command(self, robot, v, w, stamp):
+        """Queue a velocity command for robot ``robot`` received at ``stamp`` s.
 
         Returns None for a usable command, ``'non-finite'`` when v or w is NaN
         or infinite (the command is replaced by a stop) or ``'clamped'`` when
@@ -235,25 +274,26 @@ class DiffDriveSim:
         v, w = float(v), float(w)
         due = stamp + cfg.command_latency
         if not (math.isfinite(v) and math.isfinite(w)):
-            self._pending.append((due, 0.0, 0.0))
+            self._pending[robot].append((due, 0.0, 0.0))
             return 'non-finite'
         cv = float(np.clip(v, -cfg.max_linear_speed, cfg.max_linear_speed))
         cw = float(np.clip(w, -cfg.max_angular_speed, cfg.max_angular_speed))
-        self._pending.append((due, cv, cw))
+        self._pending[robot].append((due, cv, cw))
         return 'clamped' if (cv, cw) != (v, w) else None
 
     def step(self, now):
-        """Advance the simulation to ``now`` seconds; True if time advanced.
+        """Advance every robot to ``now`` seconds; True if time advanced.
 
         The first call only sets the clock. A call with a time at or before
         the previous one integrates nothing; time moving backwards (a
         restarted simulation clock) re-bases the clock there and drops the
-        commands received so far, which stops the base until the next one.
+        commands received so far, which stops the bases until their next one.
         """
         if self._time is None or now < self._time:
             if self._time is not None:  # restarted clock: forget old commands
-                self._pending.clear()
-                self._cmd_time = None
+                for queue in self._pending:
+                    queue.clear()
+                self._cmd_time[:] = np.nan
             self._time = now
             return False
         dt = now - self._time
@@ -261,24 +301,26 @@ class DiffDriveSim:
             return False
         self._time = now
         v, w = self._execute(now, dt)
-        self.velocity = (v, w)
-        self.truth = arc_step(self.truth, v * dt, w * dt)
+        self.velocity = np.column_stack((v, w))
+        self.truth = arc_steps(self.truth, v * dt, w * dt)
         self._update_wheels_and_odometry(v, w, dt)
         self._update_gyro(w, dt)
         return True
 
     def _execute(self, now, dt):
-        """The (v, w) the base executes over the step ending at ``now``."""
+        """The (v, w) arrays the bases execute over the step ending at ``now``."""
         cfg = self.config
-        while self._pending and self._pending[0][0] <= now:
-            self._cmd_time, v, w = self._pending.popleft()
-            self._cmd = (v, w)
-        self.timed_out = (self._cmd_time is None
-                          or now - self._cmd_time > cfg.cmd_timeout)
-        target_v, target_w = (0.0, 0.0) if self.timed_out else self._cmd
-        v, w = self.velocity
-        return (_approach(v, target_v, _max_change(cfg.accel_limit_linear, dt)),
-                _approach(w, target_w, _max_change(cfg.accel_limit_angular, dt)))
+        for robot, queue in enumerate(self._pending):
+            while queue and queue[0][0] <= now:
+                self._cmd_time[robot], v, w = queue.popleft()
+                self._cmd[robot] = (v, w)
+        # A robot that never had a command (NaN time) is timed out too.
+        self.timed_out = ~(now - self._cmd_time <= cfg.cmd_timeout)
+        target = np.where(self.timed_out[:, None], 0.0, self._cmd)
+        return (_approach(self.velocity[:, 0], target[:, 0],
+                          _max_change(cfg.accel_limit_linear, dt)),
+                _approach(self.velocity[:, 1], target[:, 1],
+                          _max_change(cfg.accel_limit_angular, dt)))
 
     def _update_wheels_and_odometry(self, v, w, dt):
         """Encoder readings from the true motion, then odometry from them.
@@ -291,34 +333,35 @@ class DiffDriveSim:
         """
         cfg = self.config
         half_track = 0.5 * cfg.wheel_separation
-        travel = np.array([v - w * half_track, v + w * half_track]) * dt
+        travel = np.column_stack((v - w * half_track, v + w * half_track)) * dt
         if cfg.encoder_noise > 0:
             # Variance grows with distance travelled, not with the step count.
             travel += (cfg.encoder_noise * np.sqrt(np.abs(travel))
-                       * self._rng.standard_normal(2))
+                       * self._rng.standard_normal(travel.shape))
         turned = travel / np.array([cfg.left_wheel_radius_error,
                                     cfg.right_wheel_radius_error])
-        for i in (0, 1):
-            self.wheel_angles[i] += turned[i] / cfg.wheel_radius
-            self.wheel_velocities[i] = turned[i] / cfg.wheel_radius / dt
-        left, right = turned * np.array([cfg.left_wheel_radius_multiplier,
-                                         cfg.right_wheel_radius_multiplier])
+        self.wheel_angles += turned / cfg.wheel_radius
+        self.wheel_velocities = turned / cfg.wheel_radius / dt
+        wheels = turned * np.array([cfg.left_wheel_radius_multiplier,
+                                    cfg.right_wheel_radius_multiplier])
+        left, right = wheels[:, 0], wheels[:, 1]
         ds = (0.5 * (left + right) * cfg.linear_scale_error
               * cfg.odom_linear_scale_correction)
         dtheta = ((right - left)
                   / (cfg.wheel_separation * cfg.wheel_separation_multiplier)
                   * cfg.angular_scale_error * cfg.odom_angular_scale_correction)
-        self.odom = arc_step(self.odom, ds, dtheta)
-        self.odom_velocity = (ds / dt, dtheta / dt)
+        self.odom = arc_steps(self.odom, ds, dtheta)
+        self.odom_velocity = np.column_stack((ds / dt, dtheta / dt))
 
     def _update_gyro(self, w, dt):
-        """A z-axis gyro: true yaw rate + bias + white noise, integrated."""
+        """A z-axis gyro per robot: true yaw rate + bias + white noise, integrated."""
         cfg = self.config
         rate = w + cfg.gyro_bias
         if cfg.gyro_noise_density > 0:
-            rate += cfg.gyro_noise_density / math.sqrt(dt) * self._rng.standard_normal()
+            rate = rate + (cfg.gyro_noise_density / math.sqrt(dt)
+                           * self._rng.standard_normal(self.size))
         self.gyro_rate = rate
-        self.gyro_yaw = math.remainder(self.gyro_yaw + rate * dt, 2.0 * math.pi)
+        self.gyro_yaw = wrap_angles(self.gyro_yaw + rate * dt)
 
     def gyro_variances(self, period):
         """(yaw, yaw rate) variances to report for the gyro at ``period`` s.
@@ -331,3 +374,80 @@ class DiffDriveSim:
         rate_var = cfg.gyro_noise_density ** 2 / period + cfg.gyro_bias ** 2
         yaw_var = cfg.gyro_noise_density ** 2 * 1.0 + cfg.gyro_bias ** 2
         return max(yaw_var, 1e-6), max(rate_var, 1e-6)
+
+
+class FleetRobot:
+    """Robot ``index`` of a :class:`DiffDriveFleet`, read as scalars.
+
+    ``truth`` and ``odom`` are Pose2D, ``velocity`` and ``odom_velocity``
+    (v, w) tuples, ``wheel_angles`` and ``wheel_velocities`` [left, right]
+    lists, ``gyro_rate`` and ``gyro_yaw`` floats, ``timed_out`` a bool;
+    :meth:`command` queues a command for this robot.
+    """
+
+    def __init__(self, fleet, index):
+        self.fleet = fleet
+        self.index = index
+        self.config = fleet.config
+
+    def command(self, v, w, stamp):
+        """Queue a velocity command received at ``stamp`` seconds; see
+        :meth:`DiffDriveFleet.command`."""
+        return self.fleet.command(self.index, v, w, stamp)
+
+    def gyro_variances(self, period):
+        """(yaw, yaw rate) variances to report for the gyro at ``period`` s."""
+        return self.fleet.gyro_variances(period)
+
+    @property
+    def truth(self):
+        return Pose2D(*(float(c) for c in self.fleet.truth[self.index]))
+
+    @property
+    def odom(self):
+        return Pose2D(*(float(c) for c in self.fleet.odom[self.index]))
+
+    @property
+    def velocity(self):
+        return tuple(float(c) for c in self.fleet.velocity[self.index])
+
+    @property
+    def odom_velocity(self):
+        return tuple(float(c) for c in self.fleet.odom_velocity[self.index])
+
+    @property
+    def wheel_angles(self):
+        return [float(c) for c in self.fleet.wheel_angles[self.index]]
+
+    @property
+    def wheel_velocities(self):
+        return [float(c) for c in self.fleet.wheel_velocities[self.index]]
+
+    @property
+    def gyro_rate(self):
+        return float(self.fleet.gyro_rate[self.index])
+
+    @property
+    def gyro_yaw(self):
+        return float(self.fleet.gyro_yaw[self.index])
+
+    @property
+    def timed_out(self):
+        return bool(self.fleet.timed_out[self.index])
+
+
+class DiffDriveSim(FleetRobot):
+    """One simulated base: a :class:`DiffDriveFleet` of one, read as scalars
+    (see :class:`FleetRobot`).
+
+    Call :meth:`command` for every cmd_vel and :meth:`step` at the control
+    rate; :class:`DiffDriveFleet` says how a step treats the commands.
+    """
+
+    def __init__(self, config=None):
+        super().__init__(DiffDriveFleet(1, config), 0)
+
+    def step(self, now):
+        """Advance the simulation to ``now`` seconds; True if time advanced
+        (see :meth:`DiffDriveFleet.step`)."""
+        return self.fleet.step(now)

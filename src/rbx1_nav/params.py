@@ -14,12 +14,13 @@ strings 'true' / 'false'; bools are never numbers and numbers never flags.
 import difflib
 import math
 import numbers
+import re
 from collections import namedtuple
 
 from rbx1_nav.transform_utils import strip_leading_slash
 
 __all__ = ['number', 'integer', 'flag', 'frame', 'text', 'number_list', 'pairs',
-           'raw', 'POSITIVE', 'Param', 'param', 'read_all', 'describe', 'unknown', 'usage']
+           'names', 'raw', 'POSITIVE', 'Param', 'param', 'read_all', 'describe', 'unknown', 'usage']
 
 
 def _as_float(name, value):
@@ -157,6 +158,37 @@ def pairs(name, value):
         if not isinstance(item, (list, tuple)) or len(item) != 2:
             raise ValueError(problem)
         result.append(tuple(number('%s[%d]' % (name, k), v) for v in item))
+    return result
+
+
+# A relative ROS graph name: base names (a letter, then letters, digits and
+# underscores) joined by '/'.
+_RELATIVE_NAME = re.compile(r'[A-Za-z][A-Za-z0-9_]*(/[A-Za-z][A-Za-z0-9_]*)*$')
+
+
+def names(name, value, maximum=None):
+    """``value`` as a list of distinct relative ROS names (namespaces).
+
+    A leading '/' is dropped, as for frames; an empty list, a name that is
+    not a legal ROS name ('robot 1', '1robot', 'a//b') or a repeated one is
+    a ValueError, and so are more than ``maximum`` names.
+    """
+    if not isinstance(value, (list, tuple)) or not value:
+        raise ValueError('%s must be a non-empty list of names such as '
+                         '[robot1, robot2], got %.200r' % (name, value))
+    if maximum is not None and len(value) > maximum:
+        raise ValueError('%s must hold at most %d names, got %d'
+                         % (name, maximum, len(value)))
+    result = []
+    for k, item in enumerate(value):
+        item = strip_leading_slash(item.strip()) if isinstance(item, str) else item
+        if not isinstance(item, str) or not _RELATIVE_NAME.match(item):
+            raise ValueError('%s[%d] must be a ROS name (letters, digits, _ '
+                             'and /, starting with a letter), got %r'
+                             % (name, k, value[k]))
+        if item in result:
+            raise ValueError('%s names %r twice' % (name, item))
+        result.append(item)
     return result
 
 

@@ -122,10 +122,11 @@ class RosoutWatch(object):
 
 class CourseProcess(object):
     """A motion node (odom_out_and_back.py unless ``script`` says otherwise)
-    run through rosrun, its output collected."""
+    run through rosrun, its output collected; ``remaps`` maps topic names
+    (``{'/tf': 'tf'}``) as ``from:=to`` on its command line."""
 
     def __init__(self, ns='', params=None, name=None,
-                 script='odom_out_and_back.py'):
+                 script='odom_out_and_back.py', remaps=None):
         name = name or script[:-len('.py')]
         args = ['rosrun', 'rbx1_nav', script, '__name:=' + name]
         self.node_name = '/' + _join(ns.strip('/'), name)
@@ -133,6 +134,7 @@ class CourseProcess(object):
             args.append('__ns:=' + ns)
         for key, value in sorted((params or {}).items()):
             args.append('_%s:=%s' % (key, value))
+        args.extend('%s:=%s' % pair for pair in sorted((remaps or {}).items()))
         self.args = args
         if self.node_name == rospy.get_name():
             raise AssertionError('the node under test would take the test '

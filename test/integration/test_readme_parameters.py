@@ -4,7 +4,7 @@ Each node declares every private parameter it reads (``PARAMS``, a tuple of
 rbx1_nav.params.Param, read through rbx1_nav.ros.node.start_node) and
 lists them for ``--help``, so that list is the truth; the README row of the
 node must name each of them in backticks, and no other. "and the runner's"
-in a row stands for the runner's row.
+in a row stands for the runner's row, "`NODE.py`'s" for that node's row.
 """
 import glob
 import os
@@ -20,7 +20,7 @@ NODES = sorted(p for p in glob.glob(os.path.join(ROOT, 'nodes', '*.py'))
 
 def readme_rows():
     """{first cell: set of backticked names in the last cell} of the table."""
-    rows = {}
+    rows, others = {}, {}
     with open(os.path.join(ROOT, 'README.md')) as f:
         for line in f:
             cells = [c.strip() for c in line.strip().strip('|').split('|')]
@@ -30,11 +30,16 @@ def readme_rows():
                 if "the runner's" in cells[-1]:
                     names.add("the runner's")
                 rows[cells[0].strip('`')] = names
+                # "and `fake_turtlebot.py`'s": every parameter of that row
+                others[cells[0].strip('`')] = re.findall(r"`([a-z_]+\.py)`'s",
+                                                         cells[-1])
     runner = rows.get("the runner's (every node above)", set())
     for names in rows.values():
         if "the runner's" in names:
             names.discard("the runner's")
             names |= runner
+    for node, names in rows.items():
+        names |= set().union(*(rows.get(other, set()) for other in others[node]))
     return rows
 
 

@@ -4,7 +4,8 @@ import math
 import pytest
 from hypothesis import given, strategies as st
 
-from rbx1_nav.params import flag, frame, integer, number, number_list, text
+from rbx1_nav.params import (flag, frame, integer, names, number, number_list,
+                             text)
 
 finite = st.floats(allow_nan=False, allow_infinity=False)
 
@@ -174,3 +175,29 @@ def test_range_message_mentions_zero_only_when_it_is_in_range():
     with pytest.raises(ValueError) as err:
         number('~b', 0, minimum=-1.0, maximum=1.0, allow_zero=False)
     assert str(err.value) == '~b must be >= -1 and != 0 and <= 1, got 0'
+
+
+# --- names -------------------------------------------------------------------
+
+def test_names_accepts_relative_ros_names_and_drops_a_leading_slash():
+    assert names('~robots', ['robot1', '/robot2', ' fleet/r_3 ']) == [
+        'robot1', 'robot2', 'fleet/r_3']
+    assert names('~robots', ('a',)) == ['a']
+
+
+@pytest.mark.parametrize('bad, message', [
+    ([], 'non-empty list'), ('robot1', 'non-empty list'), (None, 'non-empty list'),
+    (['robot 1'], r'~robots\[0\] must be a ROS name'),
+    (['ok', '1robot'], r'~robots\[1\] must be a ROS name'),
+    (['a//b'], 'must be a ROS name'), ([''], 'must be a ROS name'),
+    (['a/'], 'must be a ROS name'), ([3], 'must be a ROS name'),
+    (['r1', 'r2', '/r1'], "names 'r1' twice")])
+def test_names_rejects_with_the_parameter(bad, message):
+    with pytest.raises(ValueError, match=message):
+        names('~robots', bad)
+
+
+def test_names_maximum():
+    assert len(names('~robots', ['r%d' % k for k in range(3)], maximum=3)) == 3
+    with pytest.raises(ValueError, match='at most 3 names, got 4'):
+        names('~robots', ['r%d' % k for k in range(4)], maximum=3)

@@ -1,0 +1,321 @@
+"""The ROS side of a fake robot, shared by nodes/fake_turtlebot.py (one
+robot) and nodes/fake_fleet.py (N robots in one process), so every robot
+of a fleet has exactly the single robot's topics, frames and messages.
+
+:class:`RobotTopics` wires one robot of the model (a
+rbx1_nav.diff_drive.FleetRobot) to ROS: cmd_vel in; odom, tf, joint_states,
+ground_truth, imu_data and gps out. :func:`spin_on_ros_time` is the
+fixed-rate loop on ROS time that steps the model, :func:`model_config` the
+model's settings from the parameters.
+"""
+import math
+
+import numpy as np
+import rospy
+from geometry_msgs.msg import Quaternion, TransformStamped, Twist
+from nav_msgs.msg import Odometry
+from sensor_msgs.msg import Imu, JointState
+from tf2_msgs.msg import TFMessage
+
+from rbx1_nav.diff_drive import DiffDriveConfig, covariance_from_diagonal
+from rbx1_nav.fake_robot import (GPS_UNKNOWN_VARIANCE, MAX_CATCH_UP,
+                                 WARN_PERIOD, Throttle)
+from rbx1_nav.ros import lockstep
+from rbx1_nav.transform_utils import strip_leading_slash, yaw_to_quaternion
+
+__all__ = ['RobotTopics', 'fill_odometry', 'model_config', 'spin_on_ros_time']
+
+
+def model_config(values, log_name):
+    """The DiffDriveConfig in the checked parameters ``values``; warns when
+    ~cmd_timeout is shorter than a step. Raises ValueError for a bad value."""
+    config = DiffDriveConfig.from_params(
+        {name: values[name] for name in DiffDriveConfig.names()}, prefix='~')
+    if config.cmd_timeout < 1.0 / values['rate']:
+        rospy.logwarn('%s: ~cmd_timeout (%g s) is shorter than one step '
+                      '(1/~rate = %g s); the watchdog will stop the base '
+                      'between most commands', log_name, config.cmd_timeout,
+                      1.0 / values['rate'])
+    return config
+
+
+def fill_odometry(msg, stamp, frame_id, child, pose, velocity):
+    """Set header, planar pose and body twist of a nav_msgs/Odometry."""
+    msg.header.stamp = stamp
+    msg.header.frame_id = frame_id
+    msg.child_frame_id = child
+    msg.pose.pose.position.x = pose.x
+    msg.pose.pose.position.y = pose.y
+    msg.pose.pose.orientation = Quaternion(*yaw_to_quaternion(pose.yaw))
+    msg.twist.twist.linear.x, msg.twist.twist.angular.z = velocity
+    return msg
+
+
+class RobotTopics:
+    """One simulated robot's topics, frames and log lines.
+
+    ``robot`` is the model's view of the robot (read after each step),
+    ``values`` the checked rbx1_nav.fake_robot.PARAMS, ``lock`` the lock
+    that guards the model between this cmd_vel callback and the step.
+
+    With ``ns`` '' (fake_turtlebot.py) the topics are relative to the
+    node's namespace, the frames are the parameters' values and tf goes to
+    /tf and /tf_static, as tf2_ros's broadcasters send it (a launch file
+    can remap them). With a robot name (fake_fleet.py) everything is in
+    that namespace: topics ``ns/odom`` ..., frames ``ns/odom_frame``,
+    ``ns/base_frame`` and ``ns/imu_frame`` (ground_truth_frame, the world
+    all robots share, stays as it is), tf on ``ns/tf`` and
+    ``ns/tf_static``. ``index`` (a robot's place in the fleet) gives each
+    robot its own GPS noise for a given ~seed. Log lines start with
+    ``log_name``.
+    """
+
+    def __init__(self, robot, values, lock, ns='', index=None,
+                 log_name='fake_turtlebot'):
+        def topic(name):
+            return '%s/%s' % (ns, name) if ns else name
+
+        def frame(name):
+            return strip_leading_slash('%s/%s' % (ns, name)) if ns and name else name
+
+        self.robot = robot
+        self.lock = lock
+        self.log_name = log_name
+        self.period = 1.0 / values['rate']
+        self.odom_frame = frame(values['odom_frame'])
+        self.base_frame = frame(values['base_frame'])
+        self.truth_frame = values['ground_truth_frame']
+        self.imu_frame = frame(values['imu_frame']) or self.base_frame
+        self.gps_noise = values['gps_noise']
+        self.gps_period = rospy.Duration.from_sec(1.0 / values['gps_rate'])
+        self.joints = [values['left_wheel_joint'], values['right_wheel_joint']]
+        self.pose_cov = covariance_from_diagonal(values['pose_covariance_diagonal'])
+        self.twist_cov = covariance_from_diagonal(values['twist_covariance_diagonal'])
+        self.was_timed_out = True
+        self.throttle = Throttle(WARN_PERIOD)
+
+        # Room for a whole catch-up burst (MAX_CATCH_UP of steps published
+        # at once), so a late wake-up does not drop odometry messages.
+        queue = int(math.ceil(values['rate'] * MAX_CATCH_UP)) + 10
+        self.odom_pub = rospy.Publisher(topic('odom'), Odometry, queue_size=queue)
+        self.truth_pub = rospy.Publisher(topic('ground_truth'), Odometry,
+                                         queue_size=queue)
+        self.joint_pub = rospy.Publisher(topic('joint_states'), JointState,
+                                         queue_size=queue)
+        self.imu_pub = (rospy.Publisher(topic('imu_data'), Imu, queue_size=queue)
+                        if values['publish_imu'] else None)
+        self.gps_pub = (rospy.Publisher(topic('gps'), Odometry, queue_size=10)
+                        if values['publish_gps'] else None)
+        # Its own generator, so turning the GPS on leaves the odometry and
+        # gyro noise of a given ~seed unchanged.
+        seed = robot.config.seed
+        self.gps_rng = np.random.default_rng(
+            None if seed is None else [seed, 1] + ([] if index is None else [index]))
+        self.next_gps = None
+        # What tf2_ros's TransformBroadcaster and StaticTransformBroadcaster
+        # do, on this robot's own topics when it has a namespace.
+        self.tf_pub = (rospy.Publisher(topic('tf') if ns else '/tf', TFMessage,
+                                       queue_size=100)
+                       if values['publish_tf'] else None)
+        self.static_tf = rospy.Publisher(topic('tf_static') if ns else '/tf_static',
+                                         TFMessage, queue_size=100, latch=True)
+        world = TransformStamped()
+        world.header.stamp = rospy.Time.now()
+        world.header.frame_id = self.truth_frame
+        world.child_frame_id = self.odom_frame
+        world.transform.rotation.w = 1.0
+        self.static_tf.publish(TFMessage([world]))
+        # Under lockstep, this robot's motion nodes report on its lockstep
+        # topic (rbx1_nav.lockstep) and every command counts, so none may
+        # be dropped.
+        self.keeper = (lockstep.Keeper(log_name, topic(lockstep.NODE_TOPIC))
+                       if lockstep.enabled() else None)
+        self.cmd_sub = rospy.Subscriber(topic('cmd_vel'), Twist, self.on_cmd_vel,
+                                        queue_size=100, tcp_nodelay=True)
+
+    def on_cmd_vel(self, msg):
+        """Queue a command; warn (throttled) about rejected or clamped ones."""
+        now = rospy.Time.now().to_sec()
+        with self.lock:
+            problem = self.robot.command(msg.linear.x, msg.angular.z, now)
+        if self.keeper is not None:
+            self.keeper.command_from(msg)
+        if problem is None or not self.throttle.ready(problem, now):
+            return
+        if problem == 'non-finite':
+            rospy.logwarn('%s: non-finite cmd_vel (%r, %r) rejected; stopping',
+                          self.log_name, msg.linear.x, msg.angular.z)
+        elif problem == 'clamped':
+            cfg = self.robot.config
+            rospy.logwarn('%s: cmd_vel (%g, %g) clamped to |v| <= %g m/s, '
+                          '|w| <= %g rad/s', self.log_name, msg.linear.x,
+                          msg.angular.z, cfg.max_linear_speed,
+                          cfg.max_angular_speed)
+
+    def report_watchdog(self):
+        """Log once each time the watchdog stops or releases the base."""
+        timed_out = self.robot.timed_out
+        if timed_out and not self.was_timed_out:
+            rospy.loginfo('%s: no cmd_vel for %g s; stopping', self.log_name,
+                          self.robot.config.cmd_timeout)
+        self.was_timed_out = timed_out
+
+    def publish(self, stamp):
+        """After a step: the watchdog's log line, then odom, its tf, joint
+        states, ground truth, the gyro and GPS."""
+        self.report_watchdog()
+        robot = self.robot
+        odom_pose = robot.odom
+        odom = fill_odometry(Odometry(), stamp, self.odom_frame, self.base_frame,
+                             odom_pose, robot.odom_velocity)
+        odom.pose.covariance = self.pose_cov
+        odom.twist.covariance = self.twist_cov
+        self.odom_pub.publish(odom)
+
+        if self.tf_pub:
+            tf = TransformStamped()
+            tf.header = odom.header
+            tf.child_frame_id = self.base_frame
+            tf.transform.translation.x = odom_pose.x
+            tf.transform.translation.y = odom_pose.y
+            tf.transform.rotation = odom.pose.pose.orientation
+            self.tf_pub.publish(TFMessage([tf]))
+
+        joints = JointState(name=self.joints, position=robot.wheel_angles,
+                            velocity=robot.wheel_velocities)
+        joints.header.stamp = stamp
+        self.joint_pub.publish(joints)
+
+        if self.truth_pub.get_num_connections():  # skip the work if unused
+            self.truth_pub.publish(fill_odometry(Odometry(), stamp, self.truth_frame,
+                                                 self.base_frame, robot.truth,
+                                                 robot.velocity))
+        if self.imu_pub and self.imu_pub.get_num_connections():
+            self.imu_pub.publish(self.imu_message(stamp))
+        if self.gps_pub:
+            self.publish_gps_fix(stamp)
+
+    def publish_gps_fix(self, stamp):
+        """Every 1/~gps_rate s: the true x, y plus white noise, on gps."""
+        period = self.gps_period
+        if self.next_gps is None or stamp + period < self.next_gps:
+            self.next_gps = stamp  # start, or time moved backwards
+        if stamp < self.next_gps:
+            return
+        self.next_gps += period
+        if self.next_gps <= stamp:  # far behind: back on the grid from now
+            self.next_gps = stamp + period
+        noise = self.gps_rng.normal(0.0, self.gps_noise, 2)
+        truth = self.robot.truth
+        fix = Odometry()
+        fix.header.stamp = stamp
+        fix.header.frame_id = self.truth_frame
+        fix.child_frame_id = self.base_frame
+        fix.pose.pose.position.x = truth.x + noise[0]
+        fix.pose.pose.position.y = truth.y + noise[1]
+        fix.pose.pose.orientation.w = 1.0
+        variance = self.gps_noise ** 2
+        fix.pose.covariance = covariance_from_diagonal(
+            [variance, variance] + [GPS_UNKNOWN_VARIANCE] * 4)
+        fix.twist.covariance = covariance_from_diagonal(
+            [GPS_UNKNOWN_VARIANCE] * 6)
+        self.gps_pub.publish(fix)
+
+    def imu_message(self, stamp):
+        """sensor_msgs/Imu with the gyro's yaw and yaw rate (no accelerometer)."""
+        robot = self.robot
+        yaw_var, rate_var = robot.gyro_variances(self.period)
+        imu = Imu()
+        imu.header.stamp = stamp
+        imu.header.frame_id = self.imu_frame
+        imu.orientation = Quaternion(*yaw_to_quaternion(robot.gyro_yaw))
+        imu.orientation_covariance = [1e-6, 0, 0, 0, 1e-6, 0, 0, 0, yaw_var]
+        imu.angular_velocity.z = robot.gyro_rate
+        imu.angular_velocity_covariance = [1e-6, 0, 0, 0, 1e-6, 0, 0, 0, rate_var]
+        imu.linear_acceleration_covariance[0] = -1.0  # "not measured"
+        return imu
+
+
+def spin_simulator(rate, step, robots, log_name):
+    """Call ``step(stamp)`` on a fixed grid of ROS times, every 1/``rate``
+    s, until shutdown: under lockstep as a member of sim_clock's gate,
+    waiting for the motion nodes of ``robots`` (RobotTopics), otherwise on
+    whatever ROS time does."""
+    keepers = [robot.keeper for robot in robots if robot.keeper is not None]
+    if keepers:
+        spin_lockstep(rate, step, keepers, log_name)
+    else:
+        spin_on_ros_time(rate, step, log_name)
+
+
+def _time_moved_back(log_name, err):
+    rospy.logwarn('%s: ROS time moved backwards by %.1f s: a bag looping or the '
+                  'simulator restarted? Restarting from the new time',
+                  log_name, err.time)
+
+
+def spin_on_ros_time(rate, step, log_name):
+    """Call ``step(stamp)`` on a fixed grid of ROS times, every 1/``rate`` s.
+
+    When the caller wakes late (a busy CPU at a high sim speed) it catches
+    up step by step, so the published stream is the same at any speed; only
+    after more than MAX_CATCH_UP s behind does it skip ahead in one (still
+    exact) step. Returns at shutdown.
+    """
+    period = rospy.Duration.from_sec(1.0 / rate)
+    next_tick = None
+    while not rospy.is_shutdown():
+        now = rospy.Time.now()
+        if now.is_zero():  # sim time has not started yet
+            next_tick = None
+        elif next_tick is None or now < next_tick - period:  # start or reset
+            next_tick = now
+        else:
+            if (now - next_tick).to_sec() > MAX_CATCH_UP:
+                rospy.logwarn_throttle(WARN_PERIOD, '%s: %.2f s behind ROS time; '
+                                       'skipping ahead' % (log_name, (now - next_tick).to_sec()))
+                next_tick = now
+            while next_tick <= now:
+                step(next_tick)
+                next_tick += period
+        try:
+            rospy.sleep(period if next_tick is None else next_tick - rospy.Time.now())
+        except rospy.ROSTimeMovedBackwardsException as err:
+            _time_moved_back(log_name, err)
+            next_tick = None
+        except rospy.ROSInterruptException:
+            break
+
+
+def spin_lockstep(rate, step, keepers, log_name):
+    """:func:`spin_on_ros_time` as a lockstep member (rbx1_nav.lockstep).
+
+    Steps fall on the 1/``rate`` grid and at every tick a motion node asked
+    ``keepers`` for. Each step is published before the nodes handle it, so
+    a node steers by the pose of its very tick; then the simulator waits
+    for them (their reports and commands) and tells sim_clock how far time
+    may go: to its next grid step or the next node tick.
+    """
+    period = int(round(1e9 / rate))
+    reporter = lockstep.Reporter(lockstep.CLOCK_TOPIC)
+    rospy.on_shutdown(lambda: reporter.leave(lockstep.to_ns(rospy.Time.now())))
+    while not rospy.is_shutdown() and rospy.Time.now().is_zero():
+        rospy.rostime.wallsleep(0.01)
+    now = grid = lockstep.to_ns(rospy.Time.now())
+    while not rospy.is_shutdown():
+        if now >= grid:
+            grid = now + period
+        step(lockstep.from_ns(now))
+        if not all(keeper.wait_allows(now + 1) for keeper in keepers):
+            return
+        ticks = [t for t in (keeper.next_tick() for keeper in keepers) if t is not None]
+        target = min([grid] + ticks)
+        reporter.report(now, target)
+        try:
+            rospy.sleep(lockstep.from_ns(target) - rospy.Time.now())
+        except rospy.ROSTimeMovedBackwardsException as err:
+            _time_moved_back(log_name, err)
+            grid = 0
+        except rospy.ROSInterruptException:
+            return
+        now = lockstep.to_ns(rospy.Time.now())
