@@ -66,9 +66,11 @@ demo: build
 	@$(ROS) rosrun rbx1_nav plot_course.py $(CURDIR)/course.bag -o $(CURDIR)/course.png
 	@echo "demo: course complete; recorded $(CURDIR)/course.bag, plotted $(CURDIR)/course.png"
 
-# Speed of the simulator (a table; not a test).
+# Accuracy, speed, CPU and scale in one run (tables in bench/results/; not a
+# test). Sections and sizes: make bench BENCH_ARGS="--sections speed --runs 3"
+BENCH_ARGS ?=
 bench: build
-	$(ROS) python3 bench/bench_fake_turtlebot.py --speeds 1 5 10 20 40 --sim-seconds 10
+	$(ROS) python3 bench/bench.py $(BENCH_ARGS)
 
 clean:
 	rm -rf $(WS)
