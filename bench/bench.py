@@ -259,15 +259,16 @@ def speed():
 
 
 def scale(counts):
+    """bench/fleet_scale.py's runs: N robots at 1x (no simulated time), one
+    fake_fleet and separate fake_turtlebot processes."""
     sys.path.insert(0, HERE)
     import fleet_scale
-    rows = []
-    for n in counts:
-        for separate in (True, False):
-            row = fleet_scale.run(n, separate=separate)
-            log('scale %d robots (%s): %r' % (n, 'separate' if separate else 'fleet', row))
-            row['target'] = TARGETS['scale']
-            rows.append(row)
+    rows = fleet_scale.run_all(counts, log=lambda r: log(
+        'scale %d robots (%s): %d/%d completed, worst %.1f mm, %.2f deg, %.0f CPU s'
+        % (r['n'], r['mode'], r['completed'], r['n'], r['true_mm'], r['true_deg'],
+           r['cpu_total'])))
+    for row in rows:
+        row['target'] = TARGETS['scale']
     return rows
 
 
@@ -305,15 +306,16 @@ def markdown(results):
             out += ['| %s | %.3f |' % (n, c) for n, c in sorted(cpu.items(), key=lambda i: -i[1])]
         out.append('')
     if 'scale' in results:
-        out += ['## Scale (1x, default course per robot)', '',
-                '| robots | simulators | completed | worst error | control rate min / median | total CPU s | target |',
-                '|---|---|---|---|---|---|---|']
+        out += ['## Scale (1x, the default course on every robot)', '',
+                '| robots | simulators | completed | worst true error | control rate: '
+                'median / slowest second | total CPU s | holds | target |',
+                '|---|---|---|---|---|---|---|---|']
         for r in results['scale']:
-            out.append('| %d | %s | %d/%d | %s mm, %s deg | %s / %s Hz | %s | %s |' % (
-                r['n'], 'separate' if r['separate'] else 'fake_fleet', r['completed'], r['n'],
-                fmt(r.get('worst_mm')), fmt(r.get('worst_deg'), '%.2f'),
-                fmt(r.get('rate_min')), fmt(r.get('rate_median')), fmt(r.get('cpu_s')),
-                r['target']))
+            out.append('| %d | %s | %d/%d | %s mm, %s deg | %s Hz / %s ticks | %s | %s | %s |' % (
+                r['n'], 'one fake_fleet' if r['mode'] == 'fleet' else 'separate',
+                r['completed'], r['n'], fmt(r['true_mm']), fmt(r['true_deg'], '%.2f'),
+                fmt(r.get('rate_median')), fmt(r.get('rate_min'), '%.0f'),
+                fmt(r['cpu_total'], '%.0f'), 'yes' if r['holds'] else 'no', r['target']))
         out.append('')
     return '\n'.join(out)
 
@@ -336,10 +338,9 @@ def plot(results, path):
             ax.set_ylabel('final position error (mm)')
             ax.set_title('Default course: error vs speed')
         else:
-            for separate in (True, False):
-                rows = [r for r in results['scale'] if r['separate'] == separate]
-                ax.plot([r['n'] for r in rows], [r.get('worst_mm') or float('nan') for r in rows],
-                        'o-', label='separate processes' if separate else 'fake_fleet')
+            for mode, label in (('separate', 'separate processes'), ('fleet', 'fake_fleet')):
+                rows = [r for r in results['scale'] if r['mode'] == mode]
+                ax.plot([r['n'] for r in rows], [r['true_mm'] for r in rows], 'o-', label=label)
             ax.axhline(20.0, color='grey', ls='--', label='20 mm target')
             ax.set_xlabel('robots at 1x')
             ax.set_ylabel('worst final error (mm)')

@@ -8,6 +8,8 @@ fake_turtlebot.py per robot, ``separate:=true``) on a roscore of its own,
 until every robot's odom_out_and_back.py has ended, and reports:
 
 - completed: courses that logged "Course complete" (of N);
+- control rate: the median of the courses' mean control-loop rates and
+  the fewest ticks any course made in one second of ROS time;
 - course error: the worst "error from the ideal end pose" the courses
   logged (measured by their odometry);
 - true error: the worst distance and heading between each robot's
@@ -33,6 +35,7 @@ import os
 import re
 import signal
 import socket
+import statistics
 import subprocess
 import sys
 import threading
@@ -45,6 +48,8 @@ COURSE_LINE = re.compile(
     r'Course complete in (?P<time>[\d.]+) s: final pose relative to start in '
     r'(?P<robot>\S+)/odom: .*error from the ideal end pose: position '
     r'(?P<mm>[\d.]+) mm, heading (?P<deg>[-+\d.]+) deg')
+RATE_LINE = re.compile(r'final pose relative to start in (?P<robot>\S+)/odom: .*'
+                       r'control loop (?P<hz>[\d.]+) Hz mean, (?P<slowest>\d+) Hz slowest')
 # roslaunch's own lines when a course node exits.
 COURSE_EXIT = re.compile(
     r'\[(?P<robot>[^\s/\]]+)/odom_out_and_back-\d+\] (?P<how>process has '
@@ -211,7 +216,7 @@ class Bench(object):
                                   stderr=subprocess.STDOUT, universal_newlines=True,
                                   start_new_session=True)
         meter = CpuMeter(launch.pid)
-        done, lines, exits = {}, [], {}
+        done, lines, exits, rates = {}, [], {}, {}
 
         def read():
             for line in launch.stdout:
@@ -221,6 +226,10 @@ class Bench(object):
                     done[match.group('robot')] = (float(match.group('mm')),
                                                   abs(float(match.group('deg'))),
                                                   float(match.group('time')))
+                match = RATE_LINE.search(line)
+                if match:
+                    rates[match.group('robot')] = (float(match.group('hz')),
+                                                   int(match.group('slowest')))
                 match = COURSE_EXIT.search(line)
                 if match:
                     exits[match.group('robot')] = match.group('how')
@@ -244,6 +253,9 @@ class Bench(object):
             course_mm=worst(done.values(), 0), course_deg=worst(done.values(), 1),
             true_mm=1000.0 * worst(truth.values(), 0), true_deg=worst(truth.values(), 1),
             truth_read=len(truth),
+            rate_median=(statistics.median(r[0] for r in rates.values())
+                         if rates else float('nan')),
+            rate_min=min((r[1] for r in rates.values()), default=float('nan')),
             cpu_simulator=cpu.get('simulator', 0.0), cpu_courses=cpu.get('courses', 0.0),
             cpu_clock=cpu.get('clock', 0.0), cpu_launcher=cpu.get('launcher', 0.0),
             wall=wall, timed_out=len(exits) < n,

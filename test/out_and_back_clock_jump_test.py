@@ -32,9 +32,11 @@ class ClockJumpTest(unittest.TestCase):
         course = CourseProcess(params={'tf_timeout': 5.0})
         clock = None
         try:
-            self.assertTrue(wait_until(lambda: watch.moved_since(start) > 0.3
-                                       or not course.running()),
-                            'robot never moved')
+            # Moving, and late enough that the new clock's start is > 0.
+            self.assertTrue(wait_until(
+                lambda: (watch.moved_since(start) > 0.3
+                         and watch.truth.header.stamp.to_sec() > jump + 1.0)
+                or not course.running()), 'robot never moved')
             self.assertTrue(course.running(), course.output)
             subprocess.check_call(['rosnode', 'kill', '/sim_clock'])
             back_to = watch.truth.header.stamp.to_sec() - jump
@@ -45,7 +47,7 @@ class ClockJumpTest(unittest.TestCase):
             status = course.wait()
             self.assertTrue(wait_until(
                 lambda: watch.truth.header.stamp.to_sec() < back_to + jump / 2,
-                wall_limit=10.0), 'the simulator stopped at the jump')
+                wall_limit=10.0), 'the simulator stopped at the jump:\n' + course.output)
         finally:
             course.cleanup()
             if clock:

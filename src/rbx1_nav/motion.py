@@ -443,3 +443,25 @@ def legs_course(distance, angle, legs, linear_speed, angular_speed,
             turn = TimedTurn(angle, angular_speed, period, label=label)
         steps += [drive, Pause(pause), turn, Pause(pause)]
     return steps
+
+
+def control_rates(times):
+    """(mean Hz, ticks in the slowest whole second) of control ticks at
+    ``times`` (seconds, ascending); (0.0, 0) for fewer than two ticks.
+
+    A node that falls behind its clock misses ticks: the slowest second
+    shows it even when the mean looks fine.
+    """
+    if len(times) < 2:
+        return 0.0, 0
+    span = times[-1] - times[0]
+    mean = (len(times) - 1) / span if span > 0 else 0.0
+    whole = int(span)
+    if whole < 1:
+        return mean, len(times)
+    counts = [0] * whole
+    for t in times:
+        second = int(t - times[0])
+        if second < whole:
+            counts[second] += 1
+    return mean, min(counts)

@@ -162,3 +162,14 @@ def test_distances_and_angles_have_upper_bounds(name, value, words):
     _, problems = params.read_all(
         specs, lambda n, default: value if n == name else default, '~')
     assert len(problems) == 1 and re.match(words, problems[0]), problems
+
+
+def test_control_rates_show_a_missed_second():
+    from rbx1_nav.motion import control_rates
+    steady = [100.0 + 0.05 * k for k in range(201)]  # 10 s at 20 Hz
+    mean, slowest = control_rates(steady)
+    assert mean == pytest.approx(20.0) and slowest == 20
+    late = [t for t in steady if not 103.0 <= t < 104.0] + [103.5]
+    mean, slowest = control_rates(sorted(late))
+    assert slowest == 1 and mean < 20.0
+    assert control_rates([1.0]) == (0.0, 0)

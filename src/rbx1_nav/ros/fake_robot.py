@@ -312,7 +312,7 @@ def spin_lockstep(rate, step, keepers, log_name):
         target = min([grid] + ticks)
         reporter.report(now, target)
         try:
-            rospy.sleep(lockstep.from_ns(target) - rospy.Time.now())
+            lockstep.sleep_until(target, since=now)
         except rospy.ROSTimeMovedBackwardsException as err:
             _time_moved_back(log_name, err)
             grid = 0

@@ -45,6 +45,17 @@ def from_ns(ns):
     return rospy.Time(*divmod(int(ns), 1000000000))
 
 
+def sleep_until(time_ns, since):
+    """Sleep until ROS time reaches ``time_ns``; ``since`` (ns) is the time
+    the caller last handled. Raises ROSTimeMovedBackwardsException if ROS
+    time is already back before ``since`` (a new clock, from further back),
+    as rospy.sleep does when time moves back during the sleep."""
+    now = to_ns(rospy.Time.now())
+    if now < since:
+        raise rospy.ROSTimeMovedBackwardsException((since - now) * 1e-9)
+    rospy.sleep(from_ns(time_ns) - from_ns(now))
+
+
 def sender(msg):
     """The node name that published ``msg`` (rospy keeps it per message)."""
     return msg._connection_header['callerid']

@@ -30,7 +30,7 @@ import yaml
 from geometry_msgs.msg import Twist
 
 from rbx1_nav import params
-from rbx1_nav.motion import pose_error
+from rbx1_nav.motion import control_rates, pose_error
 from rbx1_nav.params import param
 from rbx1_nav.ros import lockstep
 from rbx1_nav.ros.node import start_node, wait_for_clock
@@ -338,7 +338,9 @@ class MotionRunner(object):
         pose = Pose2D(0.0, 0.0, 0.0) if blind else None
         last_stamp = None
         fresh_at = rospy.Time.now()
+        self.tick_times = []
         for now in self._ticks(blind):
+            self.tick_times.append(now.to_sec())
             reading = None if blind else self._reading(now, fresh_at + timeout)
             if reading is not None and (last_stamp is None
                                         or reading[1] > last_stamp):
@@ -380,7 +382,7 @@ class MotionRunner(object):
         while not rospy.is_shutdown():
             tick = now + period
             self.lockstep.report(now, tick)
-            rospy.sleep(lockstep.from_ns(tick) - rospy.Time.now())
+            lockstep.sleep_until(tick, since=now)
             if not self.synced and tries < SYNC_TRIES:
                 # Until the simulator steps at this node's ticks (it learns
                 # of them from the reports), send no command.
@@ -417,8 +419,12 @@ class MotionRunner(object):
         while not rospy.is_shutdown():
             if self.tf_listener.wait(lambda: (latest() or 0) >= tick, 0.01):
                 break
-            if rospy.Time.now() > give_up:
+            now = rospy.Time.now()
+            if now > give_up:
                 break
+            if lockstep.to_ns(now) < tick:  # a new clock, from further back
+                raise rospy.ROSTimeMovedBackwardsException(
+                    (tick - lockstep.to_ns(now)) * 1e-9)
         return latest()
 
     def _reading(self, now, give_up):
@@ -440,11 +446,13 @@ class MotionRunner(object):
         rospy.loginfo(
             'Course complete in %.1f s: final pose relative to start in %s: '
             'dx %+.1f mm, dy %+.1f mm, dyaw %+.2f deg; error from the ideal '
-            'end pose: position %.1f mm, heading %+.2f deg',
+            'end pose: position %.1f mm, heading %+.2f deg; control loop '
+            '%.1f Hz mean, %d Hz slowest second',
             course.elapsed, self.odom_frame, 1000.0 * (final.x - start.x),
             1000.0 * (final.y - start.y),
             math.degrees(normalize_angle(final.yaw - start.yaw)),
-            1000.0 * error, math.degrees(heading))
+            1000.0 * error, math.degrees(heading),
+            *control_rates(self.tick_times))
 
 
 def guarded(name, runner, work):
