@@ -16,8 +16,9 @@ completed course.
 Under lockstep simulated time (rbx1_nav.ros.lockstep) the node is a member
 of its simulator's gate while it drives: each control tick falls on a step
 the simulator published, simulated time waits for the tick's command, and
-the start-up waits (~tf_wait, ~start_delay) count wall seconds, since they
-wait for other processes rather than for the robot.
+the start-up waits for the clock, the transform and a cmd_vel subscriber
+(~tf_wait) count wall seconds, since they wait for other processes rather
+than for the robot.
 """
 import math
 import threading
@@ -322,9 +323,7 @@ class MotionRunner(object):
         self.wait_for_listener()
         if self.settings['start_delay'] > 0.0:
             rospy.loginfo('Starting in %.1f s', self.settings['start_delay'])
-            deadline = self._deadline(self.settings['start_delay'])
-            while not (deadline.expired() or rospy.is_shutdown()):
-                deadline.poll(20)
+            rospy.sleep(self.settings['start_delay'])
         try:
             return self._drive(course)
         finally:
