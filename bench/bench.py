@@ -278,8 +278,9 @@ def fmt(value, spec='%.1f'):
 
 def markdown(results):
     out = ['# rbx1_nav bench', '',
-           'Machine: %d cores; %s. One run of `make bench`; compare rows, not '
-           'machines.' % (os.cpu_count(), time.strftime('%Y-%m-%d %H:%M')), '']
+           'Machine: %d cores, load average %.1f at the end; %s. One run of '
+           '`make bench`; compare rows, not machines.' % (
+               os.cpu_count(), os.getloadavg()[0], time.strftime('%Y-%m-%d %H:%M')), '']
     if 'accuracy' in results:
         out += ['## Accuracy (lockstep, full speed; final error on ground truth)', '',
                 '| course | robot | completed | median | max | target |',
