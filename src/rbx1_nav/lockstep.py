@@ -23,8 +23,11 @@ The protocol has two levels, each a :class:`Gate`:
   one clock for every robot) after each step it made: the clock publishes a
   time only when no simulator's next step comes before it.
 
-A member joins with its first report and leaves with a report whose next
-time is 0, or when its connection closes (the node died). Times are integer
+A motion node joins through its simulator's ``lockstep_join`` service,
+which answers right after a step: the node's first tick is that step, and
+the simulator already waits for it. A simulator joins the clock with its
+first report. A member leaves with a report whose next time is 0, or when
+its connection closes (the node died). Times are integer
 nanoseconds; no rospy here, so the rules are unit-tested without a master.
 """
 
@@ -73,6 +76,14 @@ class Gate(object):
         member.next = next_time or LEAVING
         self._sweep()
         return change
+
+    def admit(self, name, time):
+        """Make ``name`` a member that must handle ``time`` first (its join,
+        granted at a step the simulator just published); True if new."""
+        joined = name not in self.members
+        member = self.members[name] = Member()
+        member.next = time
+        return joined
 
     def command_from(self, name):
         """Count a cmd_vel message that arrived from ``name``.

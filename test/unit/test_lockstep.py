@@ -95,3 +95,12 @@ def test_lost_commands_can_be_forgiven():
     assert gate.missing_commands(110 * MS) == []  # it owes a report too
     gate.forgive('/course')
     assert gate.allows(100 * MS)
+
+
+def test_an_admitted_node_holds_time_at_its_first_tick():
+    gate = Gate()
+    assert gate.admit('/course', 40 * MS)
+    assert gate.allows(40 * MS) and not gate.allows(40 * MS + 1)
+    gate.command_from('/course')  # its first command, counted at once
+    assert gate.report('/course', 40 * MS, 90 * MS, commands=1) is None
+    assert gate.allows(90 * MS)

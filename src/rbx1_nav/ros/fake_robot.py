@@ -128,7 +128,8 @@ class RobotTopics:
         # Under lockstep, this robot's motion nodes report on its lockstep
         # topic (rbx1_nav.lockstep) and every command counts, so none may
         # be dropped.
-        self.keeper = (lockstep.Keeper(log_name, topic(lockstep.NODE_TOPIC))
+        self.keeper = (lockstep.Keeper(log_name, topic(lockstep.NODE_TOPIC),
+                                       topic(lockstep.JOIN_SERVICE))
                        if lockstep.enabled() else None)
         self.cmd_sub = rospy.Subscriber(topic('cmd_vel'), Twist, self.on_cmd_vel,
                                         queue_size=100, tcp_nodelay=True)
@@ -306,6 +307,8 @@ def spin_lockstep(rate, step, keepers, log_name):
         if now >= grid:
             grid = now + period
         step(lockstep.from_ns(now))
+        for keeper in keepers:
+            keeper.admit(now)
         if not all(keeper.wait_allows(now + 1) for keeper in keepers):
             return
         ticks = [t for t in (keeper.next_tick() for keeper in keepers) if t is not None]

@@ -16,9 +16,15 @@ import rospy
 
 from rbx1_nav.lockstep import Gate
 from rbx1_nav.msg import Lockstep
+from std_srvs.srv import Trigger, TriggerResponse
 
 #: Relative topic on which motion nodes report to their simulator.
 NODE_TOPIC = 'lockstep'
+#: Relative service (std_srvs/Trigger) through which a motion node joins
+#: its simulator's lockstep; the answer's message is the first tick (ns).
+JOIN_SERVICE = 'lockstep_join'
+#: Wall seconds a join may wait for the simulator's next step.
+JOIN_LIMIT = 10.0
 #: Global topic on which simulators report to sim_clock (one clock serves
 #: every namespace, like /clock itself).
 CLOCK_TOPIC = '/clock_lockstep'
@@ -72,14 +78,43 @@ def synchronous_publisher(topic, msg_class):
 
 
 class Keeper(object):
-    """Owner of a lockstep gate: members report to it on ``topic``."""
+    """Owner of a lockstep gate: members report to it on ``topic``; with
+    ``join_service``, motion nodes join through that service."""
 
-    def __init__(self, owner, topic):
+    def __init__(self, owner, topic, join_service=None):
         self.owner = owner  # for log lines
         self.gate = Gate()
         self.cond = threading.Condition()
+        self.pending, self.admitted = [], {}  # joins: waiting, granted (ns)
+        self.seen = set()  # members whose report connection was seen
         self.sub = rospy.Subscriber(topic, Lockstep, self._on_report,
                                     queue_size=None, tcp_nodelay=True)
+        if join_service:
+            rospy.Service(join_service, Trigger, self._on_join)
+
+    def _on_join(self, request):
+        """A node asks to join: answer after the next step, its first tick."""
+        name = sender(request)
+        with self.cond:
+            self.admitted.pop(name, None)
+            self.pending.append(name)
+            self.cond.wait_for(lambda: name in self.admitted or rospy.is_shutdown(),
+                               JOIN_LIMIT)
+            tick = self.admitted.pop(name, None)
+        if tick is None:
+            return TriggerResponse(False, '%s did not step within %g s'
+                                   % (self.owner, JOIN_LIMIT))
+        rospy.loginfo('%s: %s joined lockstep', self.owner, name)
+        return TriggerResponse(True, str(tick))
+
+    def admit(self, time_ns):
+        """Right after a step at ``time_ns``: grant the waiting joins."""
+        with self.cond:
+            for name in self.pending:
+                self.gate.admit(name, time_ns)
+                self.admitted[name] = time_ns
+            self.pending = []
+            self.cond.notify_all()
 
     def _on_report(self, msg):
         name = sender(msg)
@@ -88,8 +123,7 @@ class Keeper(object):
                                       msg.commands)
             self.cond.notify_all()
         if change:
-            rospy.loginfo('%s: %s %s lockstep', self.owner, name,
-                          'joined' if change == 'joined' else 'left')
+            rospy.loginfo('%s: %s %s lockstep', self.owner, name, change)
 
     def command_from(self, msg):
         """Count a cmd_vel message (call from the cmd_vel callback)."""
@@ -108,8 +142,11 @@ class Keeper(object):
 
     def _drop_disconnected(self):
         """Members whose connection closed (the node died) leave the gate."""
-        connected = [c.callerid_pub for c in self.sub.impl.connections]
-        for name in self.gate.keep_only(connected):
+        connected = {c.callerid_pub for c in self.sub.impl.connections}
+        self.seen |= connected & set(self.gate.members)
+        # A member that just joined may not have its connection listed yet.
+        for name in self.gate.keep_only(connected | (set(self.gate.members) - self.seen)):
+            self.seen.discard(name)
             rospy.logwarn('%s: %s left lockstep without a word (node gone)',
                           self.owner, name)
 
@@ -155,12 +192,16 @@ class Reporter(object):
         """True once the gate's owner listens (a report would arrive)."""
         return self.pub.get_num_connections() > 0
 
+    def join(self):
+        """Joining (a motion node, through JOIN_SERVICE): count commands
+        from here."""
+        self.commands = 0
+        self.joined = True
+
     def report(self, handled_ns, next_ns):
         """Handled ``handled_ns``; time must not pass ``next_ns`` before the
-        next report. The first report joins."""
-        if not self.joined:
-            self.commands = 0
-            self.joined = True
+        next report. A simulator's first report joins the clock."""
+        self.joined = True
         self.pub.publish(Lockstep(handled=from_ns(handled_ns),
                                   next=from_ns(next_ns),
                                   commands=self.commands))

@@ -29,6 +29,7 @@ import rospy
 import tf2_ros
 import yaml
 from geometry_msgs.msg import Twist
+from std_srvs.srv import Trigger
 
 from rbx1_nav import params
 from rbx1_nav.motion import control_rates, pose_error
@@ -38,10 +39,6 @@ from rbx1_nav.ros.node import start_node, wait_for_clock
 from rbx1_nav.transform_utils import Pose2D, normalize_angle, quat_to_angle
 
 BASE_FRAME_CANDIDATES = ('base_footprint', 'base_link')
-#: Lockstep: control ticks tried for one on which the simulator publishes
-#: the followed transform; after that the latest one is used, as without
-#: lockstep.
-SYNC_TRIES = 10
 
 
 def common_params(rate):
@@ -132,7 +129,9 @@ class MotionRunner(object):
         self._clock_ready = False
         self.lockstep = (lockstep.Reporter(lockstep.NODE_TOPIC)
                          if lockstep.enabled() else None)
-        self.synced = False  # lockstep: ticks fall on the simulator's steps
+        # Lockstep: the followed transform is the simulator's, published at
+        # each of this node's ticks.
+        self.follow_steps = False
 
     def _send(self, twist):
         """Publish on cmd_vel, counted for the lockstep gate."""
@@ -375,29 +374,30 @@ class MotionRunner(object):
                 rate.sleep()
             return
         period = int(round(1e9 / self.settings['rate']))
-        now = lockstep.to_ns(rospy.Time.now())
-        self.synced = False
-        tries = 0 if not blind and self._from_simulator() else SYNC_TRIES
+        tick = self._join_lockstep()
+        self.follow_steps = not blind and self._from_simulator()
         while not rospy.is_shutdown():
-            tick = now + period
-            self.lockstep.report(now, tick)
-            lockstep.sleep_until(tick, since=now)
-            if not self.synced and tries < SYNC_TRIES:
-                # Until the simulator steps at this node's ticks (it learns
-                # of them from the reports), send no command.
-                tries += 1
-                stamp = self._fresh_stamp(tick, rospy.Time.now() + rospy.Duration(
-                    self.settings['tf_timeout']))
-                self.synced = stamp == tick
-                if not self.synced:
-                    if tries < SYNC_TRIES:
-                        now = max(lockstep.to_ns(rospy.Time.now()), stamp or 0)
-                        continue
-                    rospy.logwarn('%s: the simulator did not step at this '
-                                  'node\'s ticks; following the latest '
-                                  'transform', self.name)
             yield lockstep.from_ns(tick)
-            now = tick
+            self.lockstep.report(tick, tick + period)
+            lockstep.sleep_until(tick + period, since=tick)
+            tick += period
+
+    def _join_lockstep(self):
+        """Join the simulator's lockstep; the first tick (ns), a step the
+        simulator has just published and for which it waits."""
+        join = rospy.ServiceProxy(lockstep.JOIN_SERVICE, Trigger)
+        try:
+            join.wait_for_service(self.settings['tf_wait'])
+            self.lockstep.join()
+            answer = join()
+        except (rospy.ROSException, rospy.ServiceException) as err:
+            raise CourseAborted(
+                '/lockstep is set but the simulator\'s %s service does not '
+                'answer (%s): start the simulator with lockstep too, or set '
+                '/lockstep false' % (join.resolved_name, err))
+        if not answer.success:
+            raise CourseAborted('could not join lockstep: %s' % answer.message)
+        return int(answer.message)
 
     def _from_simulator(self):
         """True if the followed transform comes from the simulator this node
@@ -430,7 +430,7 @@ class MotionRunner(object):
         """(pose, stamp) for the tick at ``now``: under lockstep, the
         simulator's step at that very time (waiting until ROS time
         ``give_up`` for it)."""
-        if self.synced:
+        if self.follow_steps:
             self._fresh_stamp(lockstep.to_ns(now), give_up)
         return self.lookup()
 
