@@ -94,6 +94,29 @@ def relay(control, names):
                                    other[fd], packet))
 
 
+def kill_tree(pid, sig=9):
+    """Send ``sig`` to ``pid`` and all its descendants (roslaunch starts
+    the master and rosout in sessions of their own, out of its group)."""
+    parents = {}
+    for entry in os.listdir('/proc'):
+        if entry.isdigit():
+            try:
+                with open('/proc/%s/stat' % entry) as f:
+                    parents[int(entry)] = int(f.read().rsplit(')', 1)[1].split()[1])
+            except OSError:
+                pass
+    tree, grew = {pid}, True
+    while grew:
+        more = {p for p, parent in parents.items() if parent in tree} - tree
+        tree |= more
+        grew = bool(more)
+    for member in tree:
+        try:
+            os.kill(member, sig)
+        except ProcessLookupError:
+            pass
+
+
 class TwoHosts(object):
     """The robot and the workstation, and the link between them."""
 
@@ -148,12 +171,8 @@ class TwoHosts(object):
 
     def close(self):
         for proc in reversed(self.procs):
-            if proc.poll() is None:
-                try:
-                    os.killpg(proc.pid, 9)
-                except ProcessLookupError:
-                    pass
-                proc.wait()
+            kill_tree(proc.pid)
+            proc.wait()
         if self.relay is not None and self.relay.poll() is None:
             self.relay.kill()
             self.relay.wait()

@@ -147,7 +147,7 @@ def until_shutdown(loop):
 
 #: Wall seconds rospy's shutdown may take (it unregisters from the master)
 #: before the node exits without it.
-SHUTDOWN_LIMIT = 2.0
+SHUTDOWN_LIMIT = 1.0
 
 
 def exit_node(name, status):

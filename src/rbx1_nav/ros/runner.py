@@ -21,8 +21,10 @@ the start-up waits for the clock, the transform and a cmd_vel subscriber
 than for the robot.
 """
 import math
+import socket
 import threading
 import time
+import urllib.parse
 
 import rosgraph
 import rospy
@@ -205,11 +207,47 @@ class MotionRunner(object):
 
         threading.Thread(target=watch, name='clock_watchdog', daemon=True).start()
 
+    def watch_master(self):
+        """Say once when the master becomes unreachable, and when it is back.
+
+        ROS 1's topic connections are peer to peer and outlive the master,
+        so the course goes on; but nothing new can connect. The check is a
+        TCP connect with a timeout, in a thread of its own, so no master
+        call can block the control loop.
+        """
+        uri = rosgraph.get_master_uri()
+        address = urllib.parse.urlsplit(uri)
+
+        def reachable():
+            try:
+                socket.create_connection((address.hostname, address.port or 11311),
+                                         timeout=1.0).close()
+                return None
+            except OSError as err:
+                return err.strerror or str(err)
+
+        def watch():
+            gone = None
+            while not rospy.is_shutdown():
+                rospy.rostime.wallsleep(1.0)
+                problem = reachable()
+                if problem and not gone:
+                    rospy.logwarn('%s: the ROS master at %s is unreachable (%s): '
+                                  'the course goes on over the connections it has, '
+                                  'but no node or topic can join until it is back',
+                                  self.name, uri, problem)
+                elif gone and not problem:
+                    rospy.loginfo('%s: the ROS master at %s is back', self.name, uri)
+                gone = problem
+
+        threading.Thread(target=watch, name='master_watch', daemon=True).start()
+
     def start(self):
-        """Wait for the clock and start its watchdog (once per node)."""
+        """Wait for the clock and start the watchdogs (once per node)."""
         if not self._clock_ready:
             self.wait_for_clock()
             self.watch_clock()
+            self.watch_master()
             self._clock_ready = True
 
     def find_base_frame(self):

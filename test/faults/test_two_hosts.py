@@ -1,0 +1,164 @@
+"""Faults between a robot and its workstation, on two hosts (link.TwoHosts).
+
+The book's set-up: the master and the driver (here the fake robot, at real
+time) run on the robot; the course node runs on the workstation, over a
+link the test cuts or whose master it kills mid-course. Each test prints
+the figures it measured (distance after the fault, seconds to stop, seconds
+to exit). Skipped, with the reason, where namespaces cannot be made.
+"""
+import math
+import os
+import re
+import subprocess
+import sys
+import threading
+import time
+
+import pytest
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import link  # noqa: E402
+
+pytestmark = pytest.mark.skipif(link.unavailable() is not None,
+                                reason=str(link.unavailable()))
+
+TF_TIMEOUT = 1.0  # s, the course's ~tf_timeout
+CMD_TIMEOUT = 0.5  # s, the fake robot's watchdog (its default)
+SHORT_COURSE = ['_goal_distance:=0.4', '_linear_speed:=0.2', '_angular_speed:=1.5',
+                '_pause:=0.3', '_tf_timeout:=%g' % TF_TIMEOUT]
+
+
+class Lines(object):
+    """A process's output lines, each with the wall time it arrived."""
+
+    def __init__(self, proc):
+        self.proc, self.lines = proc, []
+        threading.Thread(target=self._read, daemon=True).start()
+
+    def _read(self):
+        for line in self.proc.stdout:
+            self.lines.append((time.monotonic(), line.rstrip()))
+
+    def first(self, pattern, after=0.0):
+        for when, line in list(self.lines):
+            if when >= after and re.search(pattern, line):
+                return when, line
+        return None
+
+    def wait_for(self, pattern, limit):
+        end = time.monotonic() + limit
+        while time.monotonic() < end:
+            found = self.first(pattern)
+            if found:
+                return found
+            time.sleep(0.02)
+        raise AssertionError('no line matching %r in %.0f s:\n%s' % (
+            pattern, limit, self.text()))
+
+    def text(self):
+        return '\n'.join(line for _, line in self.lines)
+
+
+def position(lines):
+    """The last x, y of a ``rostopic echo -p .../position`` stream."""
+    for _, line in reversed(lines.lines):
+        fields = line.split(',')
+        if len(fields) >= 3 and fields[0].isdigit():
+            return float(fields[1]), float(fields[2])
+    return None
+
+
+@pytest.fixture
+def hosts():
+    made = link.TwoHosts()
+    try:
+        yield made
+    finally:
+        made.close()
+
+
+def start_robot(hosts):
+    """Master, fake robot and a ground-truth recorder on the robot host."""
+    pipe = dict(stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True)
+    core = Lines(hosts.run('robot', ['roscore', '-p', str(link.MASTER_PORT)], **pipe))
+    core.wait_for('started core service', 30)
+    hosts.run('robot', ['rosrun', 'rbx1_nav', 'fake_turtlebot.py'],
+              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    truth = Lines(hosts.run('robot', ['rostopic', 'echo', '-p',
+                                      '/ground_truth/pose/pose/position'], **pipe))
+    deadline = time.monotonic() + 30
+    while position(truth) is None:
+        assert time.monotonic() < deadline, 'no ground_truth:\n' + truth.text()
+        time.sleep(0.05)
+    return truth
+
+
+def start_course(hosts):
+    proc = hosts.run('workstation', ['rosrun', 'rbx1_nav', 'odom_out_and_back.py']
+                     + SHORT_COURSE, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                     universal_newlines=True)
+    return proc, Lines(proc)
+
+
+def wait_moving(truth, distance=0.15, limit=30.0):
+    deadline = time.monotonic() + limit
+    while math.hypot(*position(truth)) < distance:
+        assert time.monotonic() < deadline, 'the robot never moved'
+        time.sleep(0.02)
+
+
+def test_link_cut_mid_leg_stops_the_robot_and_the_course_exits(hosts):
+    truth = start_robot(hosts)
+    proc, course = start_course(hosts)
+    wait_moving(truth)
+    at_cut = position(truth)
+    hosts.set(loss=1.0)
+    cut = time.monotonic()
+    time.sleep(CMD_TIMEOUT + 0.5)
+    at_stop = position(truth)
+    time.sleep(0.5)
+    final = position(truth)
+    try:
+        status = proc.wait(TF_TIMEOUT + 10.0)
+    except subprocess.TimeoutExpired:
+        pytest.fail('course still running %.1f s after the cut:\n%s'
+                    % (time.monotonic() - cut, course.text()))
+    took = time.monotonic() - cut
+    errors = [line for _, line in course.lines if 'ERROR' in line]
+    moved = math.hypot(final[0] - at_cut[0], final[1] - at_cut[1])
+    print('RESULT link cut: robot moved %.3f m after the cut and stood still %.1f s '
+          'later (moved %.4f m in the last 0.5 s); course exit %d after %.2f s '
+          '(limit ~tf_timeout + 2 = %.1f s); error lines: %s'
+          % (moved, CMD_TIMEOUT + 0.5, math.hypot(final[0] - at_stop[0], final[1] - at_stop[1]),
+             status, took, TF_TIMEOUT + 2.0, errors))
+    assert status == 1, course.text()
+    assert took < TF_TIMEOUT + 2.0, course.text()
+    assert len(errors) == 1 and 'has not been updated' in errors[0], course.text()
+    # The robot's watchdog stops it within cmd_timeout of the last command.
+    assert moved < 0.2 * (CMD_TIMEOUT + 0.1) + 0.01
+    assert final == at_stop, 'still moving after the cut'
+
+
+def test_master_killed_mid_course_the_course_finishes_and_says_so(hosts):
+    truth = start_robot(hosts)
+    proc, course = start_course(hosts)
+    wait_moving(truth)
+    core = next(p for p in hosts.procs if p.args[-3:] == ['roscore', '-p', str(link.MASTER_PORT)])
+    link.kill_tree(core.pid)  # roscore, the master and rosout
+    killed = time.monotonic()
+    try:
+        status = proc.wait(60.0)
+    except subprocess.TimeoutExpired:
+        pytest.fail('course still running 60 s after the master died:\n' + course.text())
+    done = course.first('Course complete')
+    warned = [line for _, line in course.lines if 'master' in line and 'unreachable' in line]
+    end = position(truth)
+    print('RESULT master killed: course %s %.1f s after the kill, exit %d %.2f s after '
+          'its last line; master warnings: %s; true end %.1f mm from the start'
+          % ('completed' if done else 'did not complete',
+             (done[0] - killed) if done else float('nan'), status,
+             time.monotonic() - course.lines[-1][0], warned,
+             1000 * math.hypot(*end)))
+    assert done, course.text()
+    assert status == 0, course.text()
+    assert len(warned) == 1 and link.ADDRESSES['robot'] in warned[0], course.text()
