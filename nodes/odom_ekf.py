@@ -13,13 +13,19 @@ Private parameters:
   ~estimate_twist (bool, true): twist from successive poses, else zero and
       marked unknown.
   ~twist_variance (float, 0.01): variance given to an estimated twist.
-A bad parameter is logged and the node exits with status 1.
+A bad parameter is logged and the node exits with status 1. Unstamped,
+out-of-order or repeated poses, NaN or absurd values and negative variances
+are dropped, with one warning per kind every 10 s that counts them, so the
+output's stamps only move forward. Should ROS time move backwards (a bag
+looping, a simulator restarted) the node says so and takes the poses of the
+new clock.
 """
 import rospy
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry
 
-from rbx1_nav.odom_ekf import PoseToOdometry
+from rbx1_nav.input_check import RejectedInput, time_moved_back_text
+from rbx1_nav.odom_ekf import SENSOR, PoseToOdometry
 from rbx1_nav.params import POSITIVE, flag, frame, number, param
 from rbx1_nav.ros.node import start_node
 
@@ -39,7 +45,8 @@ class OdomEkfNode(object):
 
     def __init__(self, values):
         self.converter = PoseToOdometry(**values)
-        rospy.loginfo('odom_ekf: %s -> %s', rospy.resolve_name('input'),
+        self.input_topic = rospy.resolve_name('input')
+        rospy.loginfo('odom_ekf: %s -> %s', self.input_topic,
                       rospy.resolve_name('output'))
         self.pub = rospy.Publisher('output', Odometry, queue_size=10)
         # Subscribe last so no callback runs before the publisher exists.
@@ -48,10 +55,17 @@ class OdomEkfNode(object):
 
     def on_pose(self, msg):
         """Convert one fused pose and publish it; drop bad input with a warning."""
+        now = rospy.Time.now().to_sec()
+        back = self.converter.check_clock(now)
+        if back > 0.0:
+            rospy.logwarn('odom_ekf: ' + time_moved_back_text(back))
         try:
             odom = self.converter.convert(msg)
-        except ValueError as err:
-            rospy.logwarn_throttle(5.0, 'odom_ekf: dropped a pose: %s' % err)
+        except RejectedInput as err:
+            text = self.converter.inputs.warning(
+                err, now, '%s on %s' % (SENSOR, self.input_topic))
+            if text:
+                rospy.logwarn('odom_ekf: ' + text)
             return
         self.pub.publish(odom)
 

@@ -22,9 +22,13 @@ listed by --help. A sensor silent for ~sensor_timeout is left out of the
 fusion and taken back when it returns. The IMU's yaw is used as is: mount it with its z axis up. GPS x, y are
 taken in a frame with the output frame's axes; its origin is learned from
 the fixes (keep the robot still for a few fixes after start-up). A bad
-parameter is logged and the node exits with status 1. Absurd sensor
-messages are dropped with a warning, and should the estimate ever stop
-being finite the filter restarts instead of publishing it.
+parameter is logged and the node exits with status 1. Unstamped,
+out-of-order, repeated, NaN or absurd sensor messages and negative
+variances are dropped (rbx1_nav.input_check), with one warning per sensor
+and kind every 10 s that counts them, so the output's stamps only move
+forward. Should the estimate ever stop being finite the filter restarts
+instead of publishing it; should ROS time move backwards (a bag looping,
+a simulator restarted) it says so and restarts from the next readings.
 """
 import threading
 
@@ -38,6 +42,8 @@ from std_srvs.srv import Trigger, TriggerResponse
 from tf2_msgs.msg import TFMessage
 
 from rbx1_nav import params
+from rbx1_nav.input_check import (BAD_ORIENTATION, RejectedInput,
+                                  time_moved_back_text)
 from rbx1_nav.pose_ekf import (GyroOdomFusion, OtherPublisherWatch,
                                covariance_6x6, is_finite_estimate,
                                other_publisher_text, pose_covariance_3x3,
@@ -127,65 +133,76 @@ class PoseEkfNode(object):
                                         self.on_get_status)
 
     # -- inputs -----------------------------------------------------------------
-    @staticmethod
-    def _stamp(header, now):
-        """The message stamp, or the receive time for an unstamped message."""
-        return header.stamp if not header.stamp.is_zero() else now
+    def _feed(self, name, add, unpack, msg):
+        """Give the filter one message of sensor ``name``.
 
-    def _feed(self, name, add, msg, *reading):
-        now = rospy.Time.now()
+        ``unpack(name, msg)`` gives the reading's arguments to ``add``
+        after the receive time and the stamp. The ROS time is read under
+        the lock, so the filter sees it in order; a drop (RejectedInput)
+        is logged outside the lock, at most once per sensor and kind every
+        10 s.
+        """
+        texts = []
+        with self.lock:
+            now = self._clock_now(texts)
+            try:
+                add(now, msg.header.stamp.to_sec(), *unpack(name, msg))
+            except RejectedInput as err:
+                texts.append(self.fusion.inputs.warning(
+                    err, now, '%s on %s' % (name, self.topics[name])))
+        for text in texts:
+            if text:
+                rospy.logwarn('pose_ekf: ' + text)
+
+    def _clock_now(self, texts):
+        """ROS time in seconds; restarts the filter (and says so in
+        ``texts``) should it have moved backwards. Call under the lock."""
+        now = rospy.Time.now().to_sec()
+        back = self.fusion.check_clock(now)
+        if back > 0.0:
+            texts.append(time_moved_back_text(back))
+        return now
+
+    def _yaw(self, name, orientation):
         try:
-            with self.lock:
-                add(now.to_sec(), self._stamp(msg.header, now).to_sec(),
-                    *reading)
+            return quat_to_angle(orientation)
         except ValueError as err:
-            rospy.logwarn_throttle(WARN_PERIOD, 'pose_ekf: dropped %s from %s: '
-                                   '%s' % (name, self.topics[name], err))
+            raise self.fusion.inputs.reject(name, BAD_ORIENTATION, str(err))
 
     def _planar_pose(self, name, msg):
         pose = msg.pose.pose
-        try:
-            return ((pose.position.x, pose.position.y,
-                     quat_to_angle(pose.orientation)),
-                    pose_covariance_3x3(msg.pose.covariance))
-        except ValueError as err:
-            rospy.logwarn_throttle(WARN_PERIOD, 'pose_ekf: dropped %s from %s: '
-                                   '%s' % (name, self.topics[name], err))
-            return None
+        return ((pose.position.x, pose.position.y,
+                 self._yaw(name, pose.orientation)),
+                pose_covariance_3x3(msg.pose.covariance))
+
+    def _imu_yaw(self, name, msg):
+        if msg.orientation_covariance[0] == -1.0:
+            raise self.fusion.inputs.reject(
+                name, BAD_ORIENTATION, 'orientation_covariance[0] is -1: the '
+                'IMU gives no orientation')
+        return self._yaw(name, msg.orientation), msg.orientation_covariance[8]
+
+    @staticmethod
+    def _gps_fix(_name, msg):
+        position = msg.pose.pose.position
+        return ((position.x, position.y),
+                position_covariance_2x2(msg.pose.covariance))
 
     def on_odom(self, msg):
         """Hand an odometry pose and its covariance to the filter."""
-        reading = self._planar_pose('odom', msg)
-        if reading:
-            self._feed('odom', self.fusion.add_odom, msg, *reading)
+        self._feed('odom', self.fusion.add_odom, self._planar_pose, msg)
 
     def on_vo(self, msg):
         """Hand a visual odometry pose and its covariance to the filter."""
-        reading = self._planar_pose('vo', msg)
-        if reading:
-            self._feed('vo', self.fusion.add_vo, msg, *reading)
+        self._feed('vo', self.fusion.add_vo, self._planar_pose, msg)
 
     def on_gps(self, msg):
         """Hand a GPS fix (x, y; z ignored) and its covariance to the filter."""
-        position = msg.pose.pose.position
-        self._feed('gps', self.fusion.add_gps, msg, (position.x, position.y),
-                   position_covariance_2x2(msg.pose.covariance))
+        self._feed('gps', self.fusion.add_gps, self._gps_fix, msg)
 
     def on_imu(self, msg):
         """Hand the IMU's yaw and its variance to the filter."""
-        if msg.orientation_covariance[0] == -1.0:
-            rospy.logwarn_throttle(WARN_PERIOD, 'pose_ekf: dropped imu from %s:'
-                                   ' it has no orientation (covariance[0] == '
-                                   '-1)' % self.topics['imu'])
-            return
-        try:
-            yaw = quat_to_angle(msg.orientation)
-        except ValueError as err:
-            rospy.logwarn_throttle(WARN_PERIOD, 'pose_ekf: dropped imu from %s:'
-                                   ' %s' % (self.topics['imu'], err))
-            return
-        self._feed('imu', self.fusion.add_imu, msg, yaw,
-                   msg.orientation_covariance[8])
+        self._feed('imu', self.fusion.add_imu, self._imu_yaw, msg)
 
     def on_tf(self, msg):
         """Spot another node publishing our child frame on tf."""
@@ -222,11 +239,11 @@ class PoseEkfNode(object):
 
         A non-finite estimate is never published: the filter restarts.
         """
-        now = rospy.Time.now()
-        if now.is_zero():  # simulated time has not started
+        if rospy.Time.now().is_zero():  # simulated time has not started
             return
-        now = now.to_sec()
+        texts = []
         with self.lock:
+            now = self._clock_now(texts)
             try:
                 events = self.fusion.step(now)
                 estimate = self.fusion.estimate if self.fusion.updated else None
@@ -239,6 +256,8 @@ class PoseEkfNode(object):
                                        ' (%s); waiting for new sensor data' % err)
             silent = self.fusion.silent_sensors(now)
             gone = self.conflicts.gone(now)
+        for text in texts:
+            rospy.logwarn('pose_ekf: ' + text)
         for level, text in events:
             (rospy.logwarn if level == 'warn' else rospy.loginfo)(
                 'pose_ekf: ' + text)
@@ -279,7 +298,7 @@ class PoseEkfNode(object):
             try:
                 rate.sleep()
             except rospy.exceptions.ROSTimeMovedBackwardsException:
-                rospy.logwarn('pose_ekf: ROS time moved backwards')
+                pass  # the next step notices it, says so and restarts
             except rospy.ROSInterruptException:
                 break
 

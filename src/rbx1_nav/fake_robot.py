@@ -1,4 +1,4 @@
-"""The fake robot's parameters and warning throttle, declared once for
+"""The fake robot's parameters, declared once for
 nodes/fake_turtlebot.py (one robot) and nodes/fake_fleet.py (every robot
 of a fleet takes the same values). The topics are in
 rbx1_nav.ros.fake_robot, the motion model in rbx1_nav.diff_drive. No rospy
@@ -9,7 +9,7 @@ from rbx1_nav.params import (POSITIVE, flag, frame, names, number, number_list,
                              param, raw, text)
 
 __all__ = ['PARAMS', 'ROBOTS', 'MAX_ROBOTS', 'WARN_PERIOD', 'MAX_CATCH_UP',
-           'MIN_RATE', 'MAX_RATE', 'GPS_UNKNOWN_VARIANCE', 'Throttle']
+           'MIN_RATE', 'MAX_RATE', 'GPS_UNKNOWN_VARIANCE']
 
 WARN_PERIOD = 5.0  # s between repeats of the same warning
 MAX_CATCH_UP = 1.0  # s of ROS time the loop replays step by step when late
@@ -56,25 +56,3 @@ PARAMS = (
 ROBOTS = param('robots', ['robot1', 'robot2'], names, '',
                'namespaces, one robot each (topics, frames and tf in it)',
                maximum=MAX_ROBOTS)
-
-
-class Throttle:
-    """Say when a warning may be repeated: once per ``period`` seconds per
-    key, so each robot of a fleet gets its own warnings (rospy's
-    logwarn_throttle counts per line of code, across robots).
-
-    Times are seconds of ROS time; time moving backwards allows the warning
-    again, as rospy's throttle does.
-    """
-
-    def __init__(self, period=WARN_PERIOD):
-        self.period = period
-        self.last = {}
-
-    def ready(self, key, now):
-        """True if the warning ``key`` may be logged at ``now`` (and note it)."""
-        last = self.last.get(key)
-        if last is None or now - last > self.period or now < last:
-            self.last[key] = now
-            return True
-        return False

@@ -3,8 +3,11 @@
 robot_pose_ekf (and ``pose_ekf.py`` here) publish their estimate as a
 geometry_msgs/PoseWithCovarianceStamped on ``odom_combined``. RViz's Odometry
 display wants nav_msgs/Odometry, so ``nodes/odom_ekf.py`` republishes each
-pose through :class:`PoseToOdometry`. This module imports no rospy: message
-classes from geometry_msgs and nav_msgs load without a master.
+pose through :class:`PoseToOdometry`, which drops bad input through
+:class:`rbx1_nav.input_check.InputCheck` (unstamped, out-of-order or
+repeated poses, NaN or absurd values, negative variances), so the output's
+stamps only move forward. This module imports no rospy: message classes
+from geometry_msgs and nav_msgs load without a master.
 """
 import copy
 import math
@@ -12,11 +15,13 @@ import math
 import numpy as np
 from nav_msgs.msg import Odometry
 
+from rbx1_nav.input_check import (BAD_ORIENTATION, MALFORMED, ClockWatch,
+                                  InputCheck)
 from rbx1_nav.transform_utils import (normalize_angle, quat_to_angle,
                                       strip_leading_slash)
 
 __all__ = ['PoseToOdometry', 'UNKNOWN_VARIANCE', 'UNKNOWN_TWIST_COVARIANCE',
-           'MIN_TWIST_DT', 'MAX_TWIST']
+           'MIN_TWIST_DT', 'MAX_TWIST', 'SENSOR']
 
 #: Variance that marks a twist component as unknown (the common ROS idiom).
 UNKNOWN_VARIANCE = 1e6
@@ -30,22 +35,8 @@ MIN_TWIST_DT = 1e-3
 #: jump of the input (a reset filter, a restarted driver): marked unknown.
 MAX_TWIST = 1e3
 
-
-def _check_finite(msg):
-    """Raise ValueError unless the pose and covariance of ``msg`` are finite."""
-    pose = msg.pose.pose
-    numbers = (pose.position.x, pose.position.y, pose.position.z,
-               pose.orientation.x, pose.orientation.y, pose.orientation.z,
-               pose.orientation.w)
-    if not all(math.isfinite(v) for v in numbers):
-        raise ValueError('pose has a NaN or infinite component')
-    if len(msg.pose.covariance) != 36:
-        raise ValueError('covariance has %d entries, expected 36'
-                         % len(msg.pose.covariance))
-    if not all(math.isfinite(v) for v in msg.pose.covariance):
-        raise ValueError('covariance has a NaN or infinite entry')
-    if all(v == 0.0 for v in numbers[3:]):
-        raise ValueError('orientation is an all-zero quaternion')
+#: The name of the input in :attr:`PoseToOdometry.inputs`.
+SENSOR = 'pose'
 
 
 class PoseToOdometry(object):
@@ -59,6 +50,11 @@ class PoseToOdometry(object):
     for the first pose, poses less than :data:`MIN_TWIST_DT` apart or a
     twist that is not finite or beyond :data:`MAX_TWIST`, the twist is zero
     and marked unknown.
+
+    :meth:`convert` drops bad input (:attr:`inputs`, sensor
+    :data:`SENSOR`); call :meth:`check_clock` with the ROS time before each
+    message, so that after ROS time moved backwards the poses of the new
+    clock are taken.
     """
 
     def __init__(self, frame_id='', child_frame_id='base_footprint',
@@ -74,13 +70,30 @@ class PoseToOdometry(object):
             raise ValueError('twist_variance must be a positive number, got %r'
                              % (twist_variance,))
         self._previous = None  # (frame, time [s], x, y, yaw)
+        self.inputs = InputCheck()
+        self._clock = ClockWatch()
+
+    def check_clock(self, now):
+        """Seconds ROS time moved back since the previous call, or 0.0.
+
+        On a move back (a bag looping, a simulator restarted) the next pose
+        is taken whatever its stamp, and gives no twist.
+        """
+        back = self._clock.moved_back(now)
+        if back > 0.0:
+            self.inputs.new_clock()
+            self._previous = None
+        return back
 
     def convert(self, msg):
-        """Odometry for ``msg``; raises ValueError for a NaN or broken pose.
+        """Odometry for ``msg``, or RejectedInput (a ValueError) for an
+        unstamped pose, one no newer than the last taken, a NaN or absurd
+        position, a NaN covariance or a negative variance, or a zero or
+        NaN orientation.
 
         ``msg`` is never modified: the pose is deep-copied.
         """
-        _check_finite(msg)
+        self._check(msg)
         odom = Odometry()
         odom.header.seq = msg.header.seq
         odom.header.stamp = copy.deepcopy(msg.header.stamp)
@@ -92,6 +105,20 @@ class PoseToOdometry(object):
         odom.pose.covariance = [float(v) for v in msg.pose.covariance]
         self._fill_twist(odom)
         return odom
+
+    def _check(self, msg):
+        pose, cov = msg.pose.pose, msg.pose.covariance
+        if len(cov) != 36:
+            raise self.inputs.reject(SENSOR, MALFORMED, 'covariance has %d '
+                                     'entries, expected 36' % len(cov))
+        try:
+            quat_to_angle(pose.orientation)
+        except ValueError as err:
+            raise self.inputs.reject(SENSOR, BAD_ORIENTATION, str(err))
+        position = pose.position
+        self.inputs.check(SENSOR, msg.header.stamp.to_sec(),
+                          position=(position.x, position.y, position.z),
+                          covariance=np.reshape(cov, (6, 6)))
 
     def _fill_twist(self, odom):
         """Set ``odom.twist`` from the change since the previous pose."""
@@ -107,7 +134,7 @@ class PoseToOdometry(object):
             return  # a different frame: the two poses are not comparable
         dt = now[1] - previous[1]
         if dt < MIN_TWIST_DT:
-            return  # repeated, backwards (a restarted sim clock) or jitter
+            return  # stamp jitter
         dyaw = normalize_angle(now[4] - previous[4])
         mid_yaw = previous[4] + 0.5 * dyaw
         dx, dy = now[2] - previous[2], now[3] - previous[3]

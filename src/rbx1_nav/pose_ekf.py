@@ -27,10 +27,11 @@ rest keeps its pose instead of following the gyro's drift.
 Without odometry or visual odometry (only the gyro) the prediction
 is "no motion" with a large variance, so the yaw follows the gyro and the
 position stays put. :class:`GyroOdomFusion` adds start-up and sensor
-timeouts on top of :class:`PlanarEkf`, rejects absurd input (a variance
-above :data:`MAX_VARIANCE`, a position beyond :data:`MAX_POSITION`),
-restarts itself should its estimate ever stop being finite, and describes
-its state (:meth:`GyroOdomFusion.status_text`). :class:`OtherPublisherWatch`
+timeouts on top of :class:`PlanarEkf`, drops bad input through
+:class:`rbx1_nav.input_check.InputCheck` (unstamped, out of order, NaN or
+absurd readings, negative variances), restarts itself should its estimate
+ever stop being finite or ROS time move backwards, and describes its state
+(:meth:`GyroOdomFusion.status_text`). :class:`OtherPublisherWatch`
 spots a second publisher of the filter's transform. No rospy here: times
 are float seconds, poses are plain tuples.
 """
@@ -38,6 +39,8 @@ import math
 
 import numpy as np
 
+from rbx1_nav.input_check import (MAX_POSITION, MAX_VARIANCE, ClockWatch,
+                                  InputCheck)
 from rbx1_nav.transform_utils import normalize_angle
 
 __all__ = ['PlanarEkf', 'SensorWatch', 'GyroOdomFusion', 'odom_increment',
@@ -49,12 +52,6 @@ __all__ = ['PlanarEkf', 'SensorWatch', 'GyroOdomFusion', 'odom_increment',
 #: Variances are floored here so a sensor reporting zero covariance (as the
 #: ArbotiX fake robot does) is trusted completely without a singular matrix.
 MIN_VARIANCE = 1e-9
-#: Sensor covariance entries above this (m^2, rad^2) are absurd: the message
-#: is dropped. Far above any real sensor's, far below a float's range, so
-#: the filter's sums and products of covariances stay finite.
-MAX_VARIANCE = 1e12
-#: Odometry positions farther than this from the origin (m) are absurd.
-MAX_POSITION = 1e9
 #: Growth rate of the motion variance when no odometry is fused, per second:
 #: x and y (m^2/s) and yaw (rad^2/s). Large, so the gyro decides the yaw.
 NO_ODOM_VARIANCE_RATE = np.array([1.0, 1.0, 10.0])
@@ -365,6 +362,14 @@ class GyroOdomFusion(object):
     says whether this step fused new data. Should a step ever leave a
     non-finite estimate, the filter :meth:`restart` s (with a warning event)
     instead of reporting it.
+
+    Every reading passes :attr:`inputs` (an
+    :class:`rbx1_nav.input_check.InputCheck`): an unstamped, out-of-order,
+    repeated, NaN or absurd reading raises
+    :class:`rbx1_nav.input_check.RejectedInput` and is not kept, so the
+    estimate's stamp never goes back. Call :meth:`check_clock` with the
+    current ROS time before each reading and step: should it move
+    backwards, the filter restarts from the next readings on the new clock.
     """
 
     def __init__(self, odom_used=True, imu_used=True, sensor_timeout=1.0,
@@ -379,14 +384,19 @@ class GyroOdomFusion(object):
         self.started_at = None  # time of the first step: start-up
         self._silent_reported = set()
         self.restarts = 0
+        self.inputs = InputCheck()
+        self._clock = ClockWatch()
+        self.stamp = None
         self.restart()
 
-    def restart(self):
+    def restart(self, new_clock=False):
         """Forget the estimate and every reading received so far.
 
         The filter starts again like a new one: from the next odometry
         message (without odometry, from the next visual odometry or IMU
-        message).
+        message). Its readings and its estimate must still be newer than
+        the last ones, unless ``new_clock`` (ROS time moved backwards):
+        then the next readings are taken whatever their stamps.
         """
         self.watches = {name: SensorWatch(name, self.sensor_timeout)
                         for name in SENSORS}
@@ -394,8 +404,23 @@ class GyroOdomFusion(object):
         self._ref = dict.fromkeys(SENSORS)
         self._last_predict = None
         self.ekf = None
-        self.stamp = None
         self.updated = False
+        if new_clock:
+            self.stamp = None
+            self.inputs.new_clock()
+
+    def check_clock(self, now):
+        """Seconds ROS time moved back since the previous call, or 0.0.
+
+        On a move back (a bag looping, a simulator restarted) the filter
+        restarts on the new clock at once, and start-up is ``now``.
+        """
+        back = self._clock.moved_back(now)
+        if back > 0.0:
+            self.restart(new_clock=True)
+            self.restarts += 1
+            self.started_at = now
+        return back
 
     @property
     def estimate(self):
@@ -406,47 +431,54 @@ class GyroOdomFusion(object):
 
     # -- input ----------------------------------------------------------------
     def add_odom(self, now, stamp, pose, cov3):
-        """An odometry pose ``(x, y, yaw)`` with its 3x3 covariance.
+        """An odometry pose ``(x, y, yaw)`` stamped ``stamp`` with its 3x3
+        covariance, received at ``now``.
 
-        Raises ValueError (and keeps nothing) for a NaN pose or covariance,
-        a position beyond :data:`MAX_POSITION` or a covariance entry beyond
+        Raises RejectedInput (a ValueError) and keeps nothing for a zero,
+        repeated or older stamp than the last odometry's, a NaN pose or
+        covariance, a negative variance, a position beyond
+        :data:`MAX_POSITION` or a covariance entry beyond
         :data:`MAX_VARIANCE`.
         """
-        self._add('odom', now, stamp, _checked_pose(pose, 'odometry'),
-                  _checked_cov(cov3))
+        self._add_pose('odom', now, stamp, pose, cov3)
 
     def add_vo(self, now, stamp, pose, cov3):
         """A visual odometry pose ``(x, y, yaw)`` with its 3x3 covariance.
 
         Checked like :meth:`add_odom`; fused through its own increments.
         """
-        self._add('vo', now, stamp, _checked_pose(pose, 'visual odometry'),
-                  _checked_cov(cov3))
+        self._add_pose('vo', now, stamp, pose, cov3)
 
     def add_imu(self, now, stamp, yaw, variance):
-        """An IMU yaw (radians) with its variance; ValueError if unusable."""
-        if not math.isfinite(yaw):
-            raise ValueError('IMU yaw is NaN or infinite')
-        self._add('imu', now, stamp, normalize_angle(yaw),
-                  _checked_cov([[variance]])[0, 0])
+        """An IMU yaw (radians) with its variance; checked like
+        :meth:`add_odom`."""
+        if self._taken('imu', stamp, angles=(yaw,), covariance=[[variance]]):
+            self._add('imu', now, stamp, normalize_angle(yaw),
+                      floored([[variance]])[0, 0])
 
     def add_gps(self, now, stamp, position, cov2):
-        """A GPS fix ``(x, y)`` in metres with its 2x2 covariance.
-
-        Checked like :meth:`add_odom` (finite, within :data:`MAX_POSITION`,
-        covariance entries at most :data:`MAX_VARIANCE`).
-        """
+        """A GPS fix ``(x, y)`` in metres with its 2x2 covariance; checked
+        like :meth:`add_odom`."""
         x, y = (float(v) for v in position)
-        if not (math.isfinite(x) and math.isfinite(y)):
-            raise ValueError('GPS position has a NaN or infinite component')
-        if max(abs(x), abs(y)) > MAX_POSITION:
-            raise ValueError('GPS position (%g, %g) is absurd: more than %g m '
-                             'from the origin' % (x, y, MAX_POSITION))
-        self._add('gps', now, stamp, (x, y), _checked_cov(cov2))
+        if self._taken('gps', stamp, position=(x, y), covariance=cov2):
+            self._add('gps', now, stamp, (x, y), floored(cov2))
+
+    def _add_pose(self, name, now, stamp, pose, cov3):
+        x, y, yaw = (float(v) for v in pose)
+        if self._taken(name, stamp, position=(x, y), angles=(yaw,),
+                       covariance=cov3):
+            self._add(name, now, stamp, (x, y, normalize_angle(yaw)),
+                      floored(cov3))
+
+    def _taken(self, name, stamp, **values):
+        """False for an unused sensor; raises RejectedInput for a bad
+        reading (:meth:`InputCheck.check`)."""
+        if not self.used(name):
+            return False
+        self.inputs.check(name, stamp, **values)
+        return True
 
     def _add(self, name, now, stamp, value, cov):
-        if not self.used(name):
-            return
         self._seq += 1
         self._latest[name] = _Reading(stamp, value, cov, self._seq)
         self.watches[name].seen(now, stamp)
@@ -622,7 +654,11 @@ class GyroOdomFusion(object):
                              np.diag(NO_ODOM_VARIANCE_RATE * max(dt, 1e-3)))
 
     def _advance_stamp(self, active):
-        """Stamp the estimate with the newest fused message; note progress."""
+        """Stamp the estimate with the newest fused message; note progress.
+
+        The stamp never goes back, not even across a :meth:`restart` (only
+        on a new clock): an estimate no newer than the last is not news.
+        """
         stamp = max(self._latest[n].stamp for n in active)
         if self.stamp is None or stamp > self.stamp:
             self.stamp = stamp
@@ -788,27 +824,3 @@ def is_finite_estimate(estimate):
     _, pose, cov3 = estimate
     return (all(math.isfinite(v) for v in pose)
             and bool(np.all(np.isfinite(cov3))))
-
-
-def _checked_pose(pose, what):
-    """``pose`` as floats with a normalised yaw; ValueError if unusable."""
-    x, y, yaw = (float(v) for v in pose)
-    if not all(math.isfinite(v) for v in (x, y, yaw)):
-        raise ValueError('%s pose has a NaN or infinite component' % what)
-    if max(abs(x), abs(y)) > MAX_POSITION:
-        raise ValueError('%s position (%g, %g) is absurd: more than '
-                         '%g m from the origin' % (what, x, y, MAX_POSITION))
-    return x, y, normalize_angle(yaw)
-
-
-def _checked_cov(cov):
-    """``cov`` as a floored numpy matrix; ValueError if NaN, huge or negative."""
-    cov = np.array(cov, dtype=float, ndmin=2)
-    if not np.all(np.isfinite(cov)):
-        raise ValueError('covariance has a NaN or infinite entry')
-    if np.any(np.abs(cov) > MAX_VARIANCE):
-        raise ValueError('covariance has an absurd entry %g (above %g)'
-                         % (np.max(np.abs(cov)), MAX_VARIANCE))
-    if np.any(np.diag(cov) < 0.0):
-        raise ValueError('covariance has a negative variance')
-    return floored(cov)

@@ -7,6 +7,9 @@ import pytest
 geometry_msgs = pytest.importorskip('geometry_msgs.msg')
 rospy_time = pytest.importorskip('genpy')
 
+from rbx1_nav.input_check import (ABSURD, DUPLICATE,  # noqa: E402
+                                  MAX_POSITION, NEGATIVE_VARIANCE, NOT_FINITE,
+                                  OUT_OF_ORDER, ZERO_STAMP, RejectedInput)
 from rbx1_nav.odom_ekf import (MAX_TWIST, MIN_TWIST_DT,  # noqa: E402
                                UNKNOWN_TWIST_COVARIANCE,
                                UNKNOWN_VARIANCE, PoseToOdometry)
@@ -41,6 +44,8 @@ def test_fields_map_one_to_one():
 
 def test_all_36_covariance_entries_copied_exactly():
     cov = [math.pi * (i - 17) ** 3 + 1e-300 for i in range(36)]
+    for i in range(0, 36, 7):  # variances are not negative
+        cov[i] = abs(cov[i])
     odom = PoseToOdometry().convert(make_pose(cov=tuple(cov)))
     assert list(odom.pose.covariance) == cov
 
@@ -61,11 +66,13 @@ def test_frame_parameters_override_and_are_stripped():
 
 
 def test_input_is_not_mutated():
-    msg = make_pose(frame='/odom')
+    msg = make_pose(frame='/odom', t=10.0)
     before = copy.deepcopy(msg)
     conv = PoseToOdometry(estimate_twist=True)
-    conv.convert(msg)
-    conv.convert(msg)
+    conv.convert(make_pose(frame='/odom', x=0.0, t=9.0))
+    conv.convert(msg)  # with a twist from the previous pose
+    with pytest.raises(ValueError):
+        conv.convert(msg)  # the same stamp again: dropped
     assert msg == before
 
 
@@ -132,14 +139,9 @@ def test_twist_across_the_pi_wrap():
     assert odom.twist.twist.angular.z == pytest.approx(1.0)
 
 
-def test_twist_disabled_or_stamp_not_advancing_gives_unknown_zero():
+def test_twist_disabled_gives_unknown_zero():
     conv = PoseToOdometry(estimate_twist=False)
     conv.convert(make_pose(x=0.0, t=1.0))
-    odom = conv.convert(make_pose(x=1.0, t=2.0))
-    assert odom.twist.twist.linear.x == 0.0
-    assert odom.twist.covariance[0] == UNKNOWN_VARIANCE
-    conv = PoseToOdometry()
-    conv.convert(make_pose(x=0.0, t=2.0))
     odom = conv.convert(make_pose(x=1.0, t=2.0))
     assert odom.twist.twist.linear.x == 0.0
     assert odom.twist.covariance[0] == UNKNOWN_VARIANCE
@@ -164,13 +166,15 @@ def test_unknown_twist_covariance_is_diagonal_unknown():
     assert sum(UNKNOWN_TWIST_COVARIANCE) == 6 * UNKNOWN_VARIANCE
 
 
-def test_poses_across_the_float_range_give_an_unknown_twist_not_inf():
+def test_poses_across_the_position_range_give_an_unknown_twist_not_inf():
     conv = PoseToOdometry()
-    conv.convert(make_pose(x=-1e308, y=0.0, yaw=0.0, t=1.0))
-    odom = conv.convert(make_pose(x=1e308, y=-1e308, yaw=0.0, t=2.0))
+    conv.convert(make_pose(x=-MAX_POSITION, y=0.0, yaw=0.0, t=1.0))
+    odom = conv.convert(make_pose(x=MAX_POSITION, y=-MAX_POSITION, yaw=0.0,
+                                  t=2.0))
     assert_zero_unknown_twist(odom)
     # The next ordinary step estimates a twist again.
-    odom = conv.convert(make_pose(x=1e308, y=-1e308, yaw=0.1, t=3.0))
+    odom = conv.convert(make_pose(x=MAX_POSITION, y=-MAX_POSITION, yaw=0.1,
+                                  t=3.0))
     assert odom.twist.twist.angular.z == pytest.approx(0.1)
     assert odom.twist.covariance[0] == 0.01
 
@@ -194,11 +198,12 @@ def test_twist_covariance_is_fresh_per_message():
     conv = PoseToOdometry()
     first = conv.convert(make_pose(t=1.0))
     first.twist.covariance[0] = 42.0  # a subscriber edits its message
-    second = conv.convert(make_pose(t=1.0))
+    second = conv.convert(make_pose(t=1.0 + MIN_TWIST_DT / 2))
     assert second.twist.covariance[0] == UNKNOWN_VARIANCE
 
 
-@pytest.mark.parametrize('dx,dyaw,dt', [(2 * MAX_TWIST, 0.0, 1.0), (-1e308, 0.0, 1.0),
+@pytest.mark.parametrize('dx,dyaw,dt', [(2 * MAX_TWIST, 0.0, 1.0),
+                                        (-MAX_POSITION, 0.0, 1.0),
                                         (0.0, 3.0, 2e-3)])
 def test_a_jump_gives_an_unknown_twist(dx, dyaw, dt):
     conv = PoseToOdometry()
@@ -212,3 +217,66 @@ def test_a_fast_but_possible_twist_is_kept():
     conv.convert(make_pose(x=0.0, y=0.0, yaw=0.0, t=1.0))
     odom = conv.convert(make_pose(x=0.9 * MAX_TWIST * 0.01, y=0.0, yaw=0.0, t=1.01))
     assert odom.twist.twist.linear.x == pytest.approx(0.9 * MAX_TWIST)
+
+
+# --- bad input and ROS time moving backwards ---------------------------------
+
+def covariance_with(index, value):
+    cov = [0.0] * 36
+    for i in range(0, 36, 7):
+        cov[i] = 0.01
+    cov[index] = value
+    return cov
+
+
+@pytest.mark.parametrize('change,kind', [
+    (dict(t=0.0), ZERO_STAMP), (dict(t=9.5), OUT_OF_ORDER),
+    (dict(t=10.0), DUPLICATE), (dict(x=1e300), ABSURD),
+    (dict(y=-MAX_POSITION * 2), ABSURD),
+    (dict(cov=covariance_with(7, -0.01)), NEGATIVE_VARIANCE),
+    (dict(cov=covariance_with(35, float('inf'))), NOT_FINITE),
+    (dict(cov=covariance_with(1, 1e300)), ABSURD)])
+def test_each_kind_of_bad_pose_is_dropped(change, kind):
+    conv = PoseToOdometry()
+    conv.convert(make_pose(x=0.0, y=0.0, yaw=0.0, t=10.0))
+    bad = dict(dict(t=11.0), **change)
+    with pytest.raises(RejectedInput) as caught:
+        conv.convert(make_pose(**bad))
+    assert caught.value.kind == kind
+    text = conv.inputs.warning(caught.value, 11.0, 'pose on /odom_combined')
+    assert text.startswith('dropped pose on /odom_combined: ' + kind)
+    # The next good pose is taken, its twist measured from the last good one.
+    odom = conv.convert(make_pose(x=1.0, y=0.0, yaw=0.0, t=11.0))
+    assert odom.twist.twist.linear.x == pytest.approx(1.0)
+
+
+def test_output_stamps_only_move_forward_through_bad_input():
+    # The stream: zero stamps, out-of-order poses, a negative
+    # variance and 1e300 positions among good poses.
+    stream = [make_pose(t=1.0), make_pose(t=0.0), make_pose(t=2.0),
+              make_pose(t=1.5), make_pose(t=2.5, cov=covariance_with(0, -1.0)),
+              make_pose(t=3.0, x=1e300), make_pose(t=3.5), make_pose(t=3.5),
+              make_pose(t=4.0)]
+    conv, stamps, dropped = PoseToOdometry(), [], []
+    for msg in stream:
+        try:
+            stamps.append(conv.convert(msg).header.stamp.to_sec())
+        except RejectedInput as err:
+            dropped.append(err.kind)
+    assert stamps == [1.0, 2.0, 3.5, 4.0]
+    assert dropped == [ZERO_STAMP, OUT_OF_ORDER, NEGATIVE_VARIANCE, ABSURD,
+                       DUPLICATE]
+
+
+def test_time_moving_back_takes_the_new_clocks_poses():
+    conv = PoseToOdometry()
+    assert conv.check_clock(100.0) == 0.0
+    conv.convert(make_pose(x=0.0, t=100.0))
+    assert conv.check_clock(100.1) == 0.0
+    conv.convert(make_pose(x=0.1, t=100.1))
+    assert conv.check_clock(90.1) == pytest.approx(10.0)
+    odom = conv.convert(make_pose(x=5.0, yaw=0.0, t=90.1))
+    assert odom.header.stamp.to_sec() == pytest.approx(90.1)
+    assert_zero_unknown_twist(odom)  # no twist across the jump
+    odom = conv.convert(make_pose(x=5.1, yaw=0.0, t=90.2))
+    assert odom.twist.twist.linear.x == pytest.approx(1.0)

@@ -5,6 +5,9 @@ import numpy as np
 import pytest
 from hypothesis import given, strategies as st
 
+from rbx1_nav.input_check import (ABSURD, DUPLICATE, NEGATIVE_VARIANCE,
+                                  NOT_FINITE, OUT_OF_ORDER, ZERO_STAMP,
+                                  RejectedInput)
 from rbx1_nav.pose_ekf import (MAX_POSITION, MAX_VARIANCE, GyroOdomFusion,
                                PlanarEkf, SensorWatch, covariance_6x6,
                                floored, is_finite_estimate, odom_increment,
@@ -152,8 +155,8 @@ def yaw_error(a, b):
 def test_starts_at_the_first_odometry():
     fusion = GyroOdomFusion()
     assert fusion.step(0.0) == [] and fusion.estimate is None
-    fusion.add_imu(0.0, 0.0, 0.7, GYRO_VAR)
-    fusion.step(0.0)
+    fusion.add_imu(0.05, 0.05, 0.7, GYRO_VAR)
+    fusion.step(0.05)
     assert fusion.estimate is None  # no odometry yet
     fusion.add_odom(0.1, 0.1, (1.0, -2.0, 0.5), ODOM_COV)
     events = fusion.step(0.1)
@@ -298,7 +301,7 @@ def test_absurd_covariances_are_rejected(huge):
 def test_variances_at_the_cap_are_accepted_and_stay_finite():
     fusion = GyroOdomFusion()
     odom, events = (0.0, 0.0, 0.0), []
-    for k in range(3000):  # 100 s at 30 Hz, driving in circles
+    for k in range(1, 3001):  # 100 s at 30 Hz, driving in circles
         t = k / 30.0
         odom = compose(odom, (0.02, 0.0, 0.02))
         fusion.add_odom(t, t, odom, np.full((3, 3), MAX_VARIANCE))
@@ -321,7 +324,7 @@ def test_absurd_positions_are_rejected(x):
 def test_odometry_jumping_across_the_float_range_never_gives_nan():
     fusion = GyroOdomFusion()
     for k, x in enumerate((0.0, -1e308, 1e308, 1.0)):
-        t = 0.1 * k
+        t = 0.1 * (k + 1)
         try:
             fusion.add_odom(t, t, (x, 0.0, 0.0), ODOM_COV)
         except ValueError:
@@ -375,3 +378,112 @@ def test_is_finite_estimate():
     assert is_finite_estimate((0.0, (1.0, 2.0, 3.0), np.eye(3)))
     assert not is_finite_estimate((0.0, (1.0, float('nan'), 3.0), np.eye(3)))
     assert not is_finite_estimate((0.0, (1.0, 2.0, 3.0), np.full((3, 3), np.inf)))
+
+
+# --- out-of-order and bad readings, ROS time moving backwards ----------------
+
+def test_odometry_half_a_second_late_is_dropped_and_the_pose_never_moves_back():
+    # The issue's run: 41 odometry messages 0.5 s late in 6 s, each
+    # arriving after the current one and before the gyro's; each moved the
+    # published pose back 47 mm (0.5 s at 0.1 m/s) before this check.
+    fusion = GyroOdomFusion()
+    sent, published, warnings = [], [], []
+    t, x = 0.0, 0.0
+    for k in range(180):  # 6 s at 30 Hz, driving straight at 0.1 m/s
+        t, x = t + 1.0 / 30.0, x + 0.1 / 30.0
+        sent.append((t, (x, 0.0, 0.0)))
+        fusion.add_odom(t, t, (x, 0.0, 0.0), ODOM_COV)
+        if k >= 16 and k % 4 == 0:  # the message of 15 steps (0.5 s) ago
+            stamp, pose = sent[-16]
+            with pytest.raises(RejectedInput) as caught:
+                fusion.add_odom(t, stamp, pose, ODOM_COV)
+            assert caught.value.kind == OUT_OF_ORDER
+            warnings.append(fusion.inputs.warning(caught.value, t,
+                                                  'odom on /odom'))
+        fusion.add_imu(t, t, 1.0, GYRO_VAR)
+        fusion.step(t)
+        if fusion.updated:
+            published.append(fusion.estimate[:2])
+    assert len(warnings) == 41 and len(published) == 180
+    stamps = [stamp for stamp, _ in published]
+    assert all(b > a for a, b in zip(stamps, stamps[1:]))
+    assert [pose[0] for _, pose in published] == pytest.approx(
+        [pose[0] for _, pose in sent], abs=1e-9)
+    # One warning in these 6 s (one per 10 s), naming the delay; the
+    # other 40 drops are counted for the next one.
+    said = [w for w in warnings if w]
+    assert len(said) == 1 and 'out of order' in said[0]
+    assert 'is 0.500 s older than the newest reading taken' in said[0]
+    assert fusion.inputs.dropped('odom', OUT_OF_ORDER) == 40
+
+
+def feed(fusion, sensor, stamp, number=1.0, variance=1e-4):
+    """One reading of ``sensor``: ``number`` is its x (the IMU's yaw)."""
+    if sensor == 'imu':
+        fusion.add_imu(stamp, stamp, number, variance)
+    elif sensor == 'gps':
+        fusion.add_gps(stamp, stamp, (number, 2.0), np.eye(2) * variance)
+    else:
+        getattr(fusion, 'add_' + sensor)(stamp, stamp, (number, 2.0, 0.5),
+                                         np.eye(3) * variance)
+
+
+BAD_READINGS = [  # stamp, x (the IMU's yaw), variance, kind
+    (0.0, 1.0, 1e-4, ZERO_STAMP), (5.0, 1.0, 1e-4, DUPLICATE),
+    (4.5, 1.0, 1e-4, OUT_OF_ORDER), (6.0, float('nan'), 1e-4, NOT_FINITE),
+    (6.0, 1.0, -1e-4, NEGATIVE_VARIANCE), (6.0, 1.0, 1e300, ABSURD),
+    (6.0, 1e300, 1e-4, ABSURD)]
+
+
+@pytest.mark.parametrize('sensor,stamp,number,variance,kind', [
+    (sensor,) + bad for sensor in ('odom', 'imu', 'vo', 'gps')
+    for bad in BAD_READINGS
+    # A yaw has no absurd value: any finite angle wraps.
+    if not (sensor == 'imu' and bad[1] == 1e300)])
+def test_each_sensor_drops_each_kind_of_bad_reading(sensor, stamp, number,
+                                                    variance, kind):
+    fusion = GyroOdomFusion(vo_used=True, gps_used=True)
+    feed(fusion, sensor, 5.0)
+    with pytest.raises(RejectedInput) as caught:
+        feed(fusion, sensor, stamp, number, variance)
+    assert (caught.value.sensor, caught.value.kind) == (sensor, kind)
+    assert fusion.inputs.newest(sensor) == 5.0
+    assert fusion.watches[sensor].last_stamp == 5.0  # nothing kept
+    feed(fusion, sensor, 6.0)
+    assert fusion.watches[sensor].last_stamp == 6.0
+
+
+def test_time_moving_back_restarts_from_the_next_readings_at_once():
+    fusion = GyroOdomFusion()
+    robot = Robot(fusion)
+    robot.run(20.0, v=0.2)
+    assert fusion.check_clock(robot.t) == 0.0
+    robot.t -= 10.0  # the simulator restarts 10 s back
+    assert fusion.check_clock(robot.t) == pytest.approx(10.0)
+    assert fusion.estimate is None
+    robot.run(1.0 / 30.0, v=0.2)  # the new clock's first readings
+    assert fusion.updated
+    stamp, pose, _ = fusion.estimate
+    assert stamp == pytest.approx(robot.t) and stamp < 11.0
+    assert pose == pytest.approx(robot.odom)
+    robot.run(1.0, v=0.2)
+    assert fusion.estimate[0] == pytest.approx(robot.t)
+    assert fusion.estimate[1] == pytest.approx(robot.odom, abs=1e-6)
+    assert fusion.restarts == 1
+
+
+def test_a_restart_on_the_same_clock_never_publishes_an_older_stamp():
+    fusion = GyroOdomFusion()
+    fusion.add_odom(1.0, 1.0, (0.0, 0.0, 0.0), ODOM_COV)
+    fusion.add_imu(1.02, 1.02, 0.0, GYRO_VAR)
+    fusion.step(1.02)
+    assert fusion.estimate[0] == 1.02  # the gyro's newer stamp
+    fusion.restart()  # e.g. the estimate stopped being finite
+    with pytest.raises(RejectedInput):
+        fusion.add_odom(1.03, 1.0, (0.0, 0.0, 0.0), ODOM_COV)
+    fusion.add_odom(1.03, 1.01, (0.01, 0.0, 0.0), ODOM_COV)
+    fusion.step(1.03)
+    assert fusion.estimate is not None and not fusion.updated  # 1.01: old
+    fusion.add_odom(1.04, 1.04, (0.02, 0.0, 0.0), ODOM_COV)
+    fusion.step(1.04)
+    assert fusion.updated and fusion.estimate[0] == 1.04

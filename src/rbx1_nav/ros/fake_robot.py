@@ -19,8 +19,9 @@ from tf2_msgs.msg import TFMessage
 
 from rbx1_nav.diff_drive import DiffDriveConfig, covariance_from_diagonal
 from rbx1_nav.fake_robot import (GPS_UNKNOWN_VARIANCE, MAX_CATCH_UP,
-                                 WARN_PERIOD, Throttle)
+                                 WARN_PERIOD)
 from rbx1_nav.ros import lockstep
+from rbx1_nav.throttle import Throttle
 from rbx1_nav.transform_utils import strip_leading_slash, yaw_to_quaternion
 
 __all__ = ['RobotTopics', 'fill_odometry', 'model_config', 'spin_on_ros_time']
