@@ -12,8 +12,8 @@ origin, and the out-and-back course ends where it began).
 Sections (``--sections``, all by default):
 
 - accuracy: ``--runs`` runs each of {default, precise} x {ideal,
-  realistic, realistic + pose_ekf}, lockstep at full speed; realistic runs
-  use seeds 1..runs. Median and max final error.
+  realistic, realistic + pose_ekf}, lockstep at full speed (pose_ekf, no
+  lockstep member, at 5x); realistic runs use seeds 1..runs. Median and max final error.
 - speed: the default course at 1x, 10x and max, lockstep and free-running
   (free-running "max" is the speed lockstep reached); course wall time,
   speed-up, final error.
@@ -42,6 +42,9 @@ import yaml
 HERE = os.path.dirname(os.path.abspath(__file__))
 RESULTS = os.path.join(HERE, 'results')
 SUMMARY = re.compile(r'Course complete in ([\d.]+) s')
+#: Clock speed (x real time) for courses that follow pose_ekf, which is no
+#: lockstep member.
+POSE_EKF_SPEED = '5'
 #: Targets shown beside each row (GUIDE and issue 12).
 TARGETS = {
     'default': 'within 20 mm, 2.5 deg (ideal)',
@@ -178,6 +181,10 @@ class Graph(object):
 def course(setup='ideal', mode='default', speed='max', lockstep=True, seed=None):
     """One out-and-back course; a result dict (errors on ground truth)."""
     launch = 'fake_turtlebot_ekf.launch' if setup == 'pose_ekf' else 'fake_turtlebot.launch'
+    if setup == 'pose_ekf' and speed == 'max':
+        # pose_ekf is no lockstep member: at full speed it falls behind the
+        # clock and the course aborts on its stale tf (as in the rostests).
+        speed = POSE_EKF_SPEED
     args = dict(sim_speed=speed, model='false')
     if setup != 'pose_ekf':
         args.update(lockstep=lockstep, realistic=setup == 'realistic')
@@ -282,7 +289,8 @@ def markdown(results):
            '`make bench`; compare rows, not machines.' % (
                os.cpu_count(), os.getloadavg()[0], time.strftime('%Y-%m-%d %H:%M')), '']
     if 'accuracy' in results:
-        out += ['## Accuracy (lockstep, full speed; final error on ground truth)', '',
+        out += ['## Accuracy (lockstep at full speed, pose_ekf rows at %sx; final error '
+                'on ground truth)' % POSE_EKF_SPEED, '',
                 '| course | robot | completed | median | max | target |',
                 '|---|---|---|---|---|---|']
         for r in results['accuracy']:

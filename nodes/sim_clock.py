@@ -50,13 +50,18 @@ def main():
         pacer.set_speed(1.0)
     pub = lockstep.synchronous_publisher('/clock', Clock)
     while not rospy.is_shutdown():
-        if keeper is not None and speed is None:
-            pacer.set_speed(None if keeper.has_members() else 1.0)
-        sim_ns, wait = pacer.advance(time.monotonic())
+        limit = None
+        if keeper is not None:
+            # Every simulator has handled the time now published; the next
+            # one is a step on, or the earliest tick one of them asked for.
+            if not keeper.wait_allows(pacer.sim_ns + 1):
+                break
+            limit = keeper.next_tick()
+            if speed is None:
+                pacer.set_speed(None if keeper.has_members() else 1.0)
+        sim_ns, wait = pacer.advance(time.monotonic(), limit)
         if wait > 0:
             time.sleep(wait)
-        if keeper is not None and not keeper.wait_allows(sim_ns):
-            break
         try:
             pub.publish(Clock(clock=lockstep.from_ns(sim_ns)))
         except rospy.ROSException:

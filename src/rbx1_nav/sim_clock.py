@@ -61,14 +61,17 @@ class ClockPacer:
             self.speed = speed
             self._anchor = None
 
-    def advance(self, wall_now):
-        """Move one step on; return (sim time in ns, wall seconds to wait).
-
-        The caller waits the returned time, then publishes the sim time.
+    def advance(self, wall_now, limit=None):
+        """Move one step on, or only to ``limit`` (ns) if that comes first
+        (a lockstep member's tick); return (sim time in ns, wall seconds to
+        wait). The caller waits the returned time, then publishes the sim
+        time.
         """
         if self._anchor is None:
             self._anchor = (wall_now, self.sim_ns)
         self.sim_ns += self.step_ns
+        if limit is not None and self.sim_ns - self.step_ns < limit < self.sim_ns:
+            self.sim_ns = limit
         if self.speed is None:
             return self.sim_ns, 0.0
         wall0, sim0 = self._anchor

@@ -79,3 +79,10 @@ def test_speed_parameter(value, expected):
 def test_bad_speed_parameter_names_max(value):
     with pytest.raises(ValueError, match="'max' or a number"):
         sim_clock.speed("~speed", value)
+
+
+def test_a_member_tick_between_steps_is_published_on_its_own():
+    pacer = ClockPacer(None, step=0.01)
+    assert pacer.advance(0.0, limit=3_333_333)[0] == 3_333_333
+    assert pacer.advance(0.0, limit=50_000_000)[0] == 13_333_333
+    assert pacer.advance(0.0)[0] == 23_333_333

@@ -180,6 +180,10 @@ class Keeper(object):
         return False
 
 
+class JoinError(Exception):
+    """A node could not join the lockstep; the message says why."""
+
+
 class Reporter(object):
     """A lockstep member: reports the steps it handled on ``topic``."""
 
@@ -192,11 +196,40 @@ class Reporter(object):
         """True once the gate's owner listens (a report would arrive)."""
         return self.pub.get_num_connections() > 0
 
-    def join(self):
-        """Joining (a motion node, through JOIN_SERVICE): count commands
-        from here."""
-        self.commands = 0
-        self.joined = True
+    def join(self, wait):
+        """Join the simulator's lockstep through JOIN_SERVICE, waiting up to
+        ``wait`` wall seconds for it; the first tick (ns): a step the
+        simulator has just published and for which it waits. Commands
+        count from here. Raises JoinError saying why it could not."""
+        join = rospy.ServiceProxy(JOIN_SERVICE, Trigger)
+        deadline = time.monotonic() + wait
+        while not self.connected():  # a report sent before is lost
+            if time.monotonic() > deadline or rospy.is_shutdown():
+                raise JoinError('nothing takes lockstep reports on %s after '
+                                '%.1f s' % (self.pub.resolved_name, wait))
+            rospy.rostime.wallsleep(0.01)
+        try:
+            join.wait_for_service(max(0.1, deadline - time.monotonic()))
+            self.commands = 0
+            self.joined = True
+            answer = join()
+        except (rospy.ROSException, rospy.ServiceException) as err:
+            raise JoinError('the simulator\'s %s service does not answer (%s)'
+                            % (join.resolved_name, err))
+        if not answer.success:
+            raise JoinError(answer.message)
+        return int(answer.message)
+
+    def ticks(self, rate, wait):
+        """Join, then yield each tick (ns) at ``rate`` Hz; after each, report
+        it handled and sleep to the next."""
+        period = int(round(1e9 / rate))
+        tick = self.join(wait)
+        while not rospy.is_shutdown():
+            yield tick
+            self.report(tick, tick + period)
+            sleep_until(tick + period, since=tick)
+            tick += period
 
     def report(self, handled_ns, next_ns):
         """Handled ``handled_ns``; time must not pass ``next_ns`` before the

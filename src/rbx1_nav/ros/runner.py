@@ -31,7 +31,6 @@ import rospy
 import tf2_ros
 import yaml
 from geometry_msgs.msg import Twist
-from std_srvs.srv import Trigger
 
 from rbx1_nav import params
 from rbx1_nav.motion import control_rates, pose_error
@@ -411,31 +410,17 @@ class MotionRunner(object):
                 yield rospy.Time.now()
                 rate.sleep()
             return
-        period = int(round(1e9 / self.settings['rate']))
-        tick = self._join_lockstep()
-        self.follow_steps = not blind and self._from_simulator()
-        while not rospy.is_shutdown():
-            yield lockstep.from_ns(tick)
-            self.lockstep.report(tick, tick + period)
-            lockstep.sleep_until(tick + period, since=tick)
-            tick += period
-
-    def _join_lockstep(self):
-        """Join the simulator's lockstep; the first tick (ns), a step the
-        simulator has just published and for which it waits."""
-        join = rospy.ServiceProxy(lockstep.JOIN_SERVICE, Trigger)
+        ticks = self.lockstep.ticks(self.settings['rate'], self.settings['tf_wait'])
         try:
-            join.wait_for_service(self.settings['tf_wait'])
-            self.lockstep.join()
-            answer = join()
-        except (rospy.ROSException, rospy.ServiceException) as err:
-            raise CourseAborted(
-                '/lockstep is set but the simulator\'s %s service does not '
-                'answer (%s): start the simulator with lockstep too, or set '
-                '/lockstep false' % (join.resolved_name, err))
-        if not answer.success:
-            raise CourseAborted('could not join lockstep: %s' % answer.message)
-        return int(answer.message)
+            first = next(ticks)
+        except lockstep.JoinError as err:
+            raise CourseAborted('/lockstep is set but this node cannot join: %s. '
+                                'Start the simulator with lockstep too, or set '
+                                '/lockstep false' % err)
+        self.follow_steps = not blind and self._from_simulator()
+        yield lockstep.from_ns(first)
+        for tick in ticks:
+            yield lockstep.from_ns(tick)
 
     def _from_simulator(self):
         """True if the followed transform comes from the simulator this node
