@@ -46,7 +46,7 @@ lint: build
 # Unit tests (pytest, no master), then every test/*.test through rostest;
 # pytest prints the one summary line for both.
 test: lint
-	$(ROS) python3 -m pytest test/unit test/integration -q -p no:cacheprovider --durations=10
+	$(ROS) python3 -m pytest test/unit test/integration test/faults -q -p no:cacheprovider --durations=10
 
 unit:
 	python3 -m pytest test/unit -q -p no:cacheprovider

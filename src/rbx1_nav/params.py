@@ -10,6 +10,7 @@ as a string, and ``_publish_tf:=false`` on a command line or ``value="false"``
 in a launch file arrive as booleans, but a quoted ``'false'`` arrives as a
 string. So numbers are accepted as numeric strings too, and flags as the
 strings 'true' / 'false'; bools are never numbers and numbers never flags.
+An error quotes at most 200 characters of a bad value.
 """
 import difflib
 import math
@@ -26,11 +27,11 @@ __all__ = ['number', 'integer', 'flag', 'frame', 'text', 'number_list', 'pairs',
 def _as_float(name, value):
     """``value`` as a float: a real number or a numeric string, not a bool."""
     if isinstance(value, bool) or not isinstance(value, (numbers.Real, str)):
-        raise ValueError('%s must be a number, got %r' % (name, value))
+        raise ValueError('%s must be a number, got %.200r' % (name, value))
     try:
         return float(value.strip() if isinstance(value, str) else value)
     except (ValueError, OverflowError):
-        raise ValueError('%s must be a number, got %r' % (name, value))
+        raise ValueError('%s must be a number, got %.200r' % (name, value))
 
 
 def _range_text(minimum, maximum, allow_zero):
@@ -58,11 +59,11 @@ def number(name, value, minimum=None, maximum=None, allow_zero=True):
     """
     result = _as_float(name, value)
     if not math.isfinite(result):
-        raise ValueError('%s must be a finite number, got %r' % (name, value))
+        raise ValueError('%s must be a finite number, got %.200r' % (name, value))
     if ((minimum is not None and result < minimum)
             or (maximum is not None and result > maximum)
             or (not allow_zero and result == 0.0)):
-        raise ValueError('%s must be %s, got %r' % (
+        raise ValueError('%s must be %s, got %.200r' % (
             name, _range_text(minimum, maximum, allow_zero), value))
     return result
 
@@ -78,11 +79,11 @@ def integer(name, value, minimum=None, maximum=None):
     else:
         as_float = _as_float(name, value)
         if not (math.isfinite(as_float) and as_float.is_integer()):
-            raise ValueError('%s must be an integer, got %r' % (name, value))
+            raise ValueError('%s must be an integer, got %.200r' % (name, value))
         result = int(as_float)
     if ((minimum is not None and result < minimum)
             or (maximum is not None and result > maximum)):
-        raise ValueError('%s must be an integer %s, got %r' % (
+        raise ValueError('%s must be an integer %s, got %.200r' % (
             name, _range_text(minimum, maximum, True), value))
     return result
 
@@ -97,7 +98,7 @@ def flag(name, value):
         return value
     if isinstance(value, str) and value.strip().lower() in ('true', 'false'):
         return value.strip().lower() == 'true'
-    raise ValueError('%s must be true or false, got %r' % (name, value))
+    raise ValueError('%s must be true or false, got %.200r' % (name, value))
 
 
 def raw(name, value):
@@ -108,7 +109,7 @@ def raw(name, value):
 def text(name, value, allow_empty=False):
     """``value`` as a string with surrounding whitespace removed."""
     if not isinstance(value, str):
-        raise ValueError('%s must be a string, got %r' % (name, value))
+        raise ValueError('%s must be a string, got %.200r' % (name, value))
     result = value.strip()
     if not result and not allow_empty:
         raise ValueError('%s must not be empty' % name)
@@ -124,10 +125,10 @@ def frame(name, value, allow_empty=False):
     """
     result = strip_leading_slash(text(name, value, allow_empty=True))
     if any(c.isspace() for c in result):
-        raise ValueError('%s must be a frame id without spaces, got %r'
+        raise ValueError('%s must be a frame id without spaces, got %.200r'
                          % (name, value))
     if not result and not allow_empty:
-        raise ValueError('%s must name a frame, got %r' % (name, value))
+        raise ValueError('%s must name a frame, got %.200r' % (name, value))
     return result
 
 
@@ -135,7 +136,7 @@ def number_list(name, value, length, minimum=None, maximum=None,
                 allow_zero=True):
     """``value`` as a list of ``length`` floats, each checked like :func:`number`."""
     if not isinstance(value, (list, tuple)) or len(value) != length:
-        raise ValueError('%s must be a list of %d numbers, got %r'
+        raise ValueError('%s must be a list of %d numbers, got %.200r'
                          % (name, length, value))
     return [number('%s[%d]' % (name, i), item, minimum, maximum, allow_zero)
             for i, item in enumerate(value)]
@@ -184,7 +185,7 @@ def names(name, value, maximum=None):
         item = strip_leading_slash(item.strip()) if isinstance(item, str) else item
         if not isinstance(item, str) or not _RELATIVE_NAME.match(item):
             raise ValueError('%s[%d] must be a ROS name (letters, digits, _ '
-                             'and /, starting with a letter), got %r'
+                             'and /, starting with a letter), got %.200r'
                              % (name, k, value[k]))
         if item in result:
             raise ValueError('%s names %r twice' % (name, item))

@@ -201,3 +201,11 @@ def test_names_maximum():
     assert len(names('~robots', ['r%d' % k for k in range(3)], maximum=3)) == 3
     with pytest.raises(ValueError, match='at most 3 names, got 4'):
         names('~robots', ['r%d' % k for k in range(4)], maximum=3)
+
+
+@pytest.mark.parametrize('check', [number, integer, flag, text, frame])
+def test_an_error_quotes_at_most_200_characters_of_the_value(check):
+    huge = list(range(10 ** 6))
+    with pytest.raises(ValueError) as err:
+        check('~x', huge)
+    assert len(str(err.value)) < 300

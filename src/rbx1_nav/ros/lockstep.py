@@ -191,6 +191,7 @@ class Reporter(object):
         self.pub = synchronous_publisher(topic, Lockstep)
         self.commands = 0  # cmd_vel messages since joining (motion nodes)
         self.joined = False
+        self.left = False  # after leave(), until join(): no more reports
 
     def connected(self):
         """True once the gate's owner listens (a report would arrive)."""
@@ -211,7 +212,7 @@ class Reporter(object):
         try:
             join.wait_for_service(max(0.1, deadline - time.monotonic()))
             self.commands = 0
-            self.joined = True
+            self.joined, self.left = True, False
             answer = join()
         except (rospy.ROSException, rospy.ServiceException) as err:
             raise JoinError('the simulator\'s %s service does not answer (%s)'
@@ -233,7 +234,11 @@ class Reporter(object):
 
     def report(self, handled_ns, next_ns):
         """Handled ``handled_ns``; time must not pass ``next_ns`` before the
-        next report. A simulator's first report joins the clock."""
+        next report. A simulator's first report joins the clock; after
+        leave() (a shutdown hook, from another thread) none goes out, so a
+        node on its way out cannot join again."""
+        if self.left:
+            return
         self.joined = True
         self.pub.publish(Lockstep(handled=from_ns(handled_ns),
                                   next=from_ns(next_ns),
@@ -243,7 +248,7 @@ class Reporter(object):
         """Leave the lockstep (no-op when not a member, or after shutdown)."""
         if not self.joined:
             return
-        self.joined = False
+        self.joined, self.left = False, True
         try:
             self.pub.publish(Lockstep(handled=from_ns(handled_ns),
                                       commands=self.commands))
