@@ -461,7 +461,7 @@ def control_rates(times):
         return mean, len(times)
     counts = [0] * whole
     for t in times:
-        second = int(t - times[0])
+        second = int(t - times[0] + 1e-6)  # a tick on a whole second is in it
         if second < whole:
             counts[second] += 1
     return mean, min(counts)

@@ -173,3 +173,10 @@ def test_control_rates_show_a_missed_second():
     mean, slowest = control_rates(sorted(late))
     assert slowest == 1 and mean < 20.0
     assert control_rates([1.0]) == (0.0, 0)
+
+
+def test_control_rates_count_ticks_on_whole_seconds_once():
+    from rbx1_nav.motion import control_rates
+    # Far from zero, 8.71 + k * 0.05 rounds some whole seconds just under.
+    ticks = [8.71 + k * 0.05 for k in range(401)]
+    assert control_rates(ticks)[1] == 20
