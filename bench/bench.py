@@ -31,7 +31,6 @@ import math
 import os
 import re
 import signal
-import socket
 import statistics
 import subprocess
 import sys
@@ -40,6 +39,8 @@ import time
 import yaml
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from fleet_scale import cpu_seconds, descendants, free_port  # noqa: E402
 RESULTS = os.path.join(HERE, 'results')
 SUMMARY = re.compile(r'Course complete in ([\d.]+) s')
 #: Clock speed (x real time) for courses that follow pose_ekf, which is no
@@ -54,52 +55,25 @@ TARGETS = {
 }
 
 
-def free_port():
-    with socket.socket() as sock:
-        sock.bind(('localhost', 0))
-        return sock.getsockname()[1]
-
-
-def cpu_seconds(pid):
-    """User + system CPU seconds of a process (0 once it is gone)."""
-    try:
-        with open('/proc/%d/stat' % pid) as f:
-            fields = f.read().rsplit(')', 1)[1].split()
-    except OSError:
-        return 0.0
-    return (int(fields[11]) + int(fields[12])) / os.sysconf('SC_CLK_TCK')
-
-
 def processes(root):
     """{pid: node name} of ``root`` and its descendants (roslaunch puts
     each node in a session of its own, so process groups do not do)."""
-    parents = {}
-    for entry in os.listdir('/proc'):
-        if entry.isdigit():
-            try:
-                with open('/proc/%s/stat' % entry) as f:
-                    parents[int(entry)] = int(f.read().rsplit(')', 1)[1].split()[1])
-            except OSError:
-                pass
-    family, grew = {root}, True
-    while grew:
-        more = {pid for pid, parent in parents.items() if parent in family} - family
-        family |= more
-        grew = bool(more)
-    found = {}
-    for pid in family:
-        try:
-            with open('/proc/%d/cmdline' % pid) as f:
-                argv = f.read().split('\0')
-        except OSError:
-            continue
+    found, family = {}, descendants(root)
+    try:
+        with open('/proc/%d/cmdline' % root, 'rb') as f:
+            family[root] = f.read().replace(b'\0', b' ').decode(errors='replace')
+    except OSError:
+        pass
+    for pid, cmdline in family.items():
+        argv = cmdline.split()
         names = [a.split(':=', 1)[1] for a in argv if a.startswith('__name:=')]
+        scripts = [os.path.basename(a)[:-3] for a in argv[:3] if a.endswith('.py')]
         if names:
             found[pid] = names[0]
         elif any(a.endswith('rosmaster') for a in argv):
             found[pid] = 'rosmaster'
-        elif any(a.endswith('.py') for a in argv[:3]):
-            found[pid] = os.path.basename(next(a for a in argv if a.endswith('.py')))[:-3]
+        elif scripts:
+            found[pid] = scripts[0]
     return found
 
 
@@ -151,7 +125,7 @@ class Graph(object):
         totals = {}
         for group in self.groups:
             for pid, name in processes(group).items():
-                totals[name] = totals.get(name, 0.0) + cpu_seconds(pid)
+                totals[name] = totals.get(name, 0.0) + (cpu_seconds(pid) or 0.0)
         return totals
 
     def truth(self, topic='ground_truth'):
@@ -268,7 +242,6 @@ def speed():
 def scale(counts):
     """bench/fleet_scale.py's runs: N robots at 1x (no simulated time), one
     fake_fleet and separate fake_turtlebot processes."""
-    sys.path.insert(0, HERE)
     import fleet_scale
     rows = fleet_scale.run_all(counts, log=lambda r: log(
         'scale %d robots (%s): %d/%d completed, worst %.1f mm, %.2f deg, %.0f CPU s'

@@ -55,6 +55,7 @@ class FakeFleetTest(unittest.TestCase):
         courses = dict((ns, CourseProcess(ns=ns, remaps=OWN_TF, params={
             'precise': str(bool(rospy.get_param('~precise', False))).lower(),
             'tf_timeout': float(rospy.get_param('~tf_timeout', 1.0)),
+            'goal_distance': float(rospy.get_param('~goal_distance', 1.0)),
             'odom_frame': ns + '/odom',
             'base_frame': ns + '/base_footprint'})) for ns in robots)
         try:

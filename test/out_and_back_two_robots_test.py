@@ -4,11 +4,9 @@
 Run by out_and_back_two_robots.test: robot1 and robot2 each have a fake
 robot publishing robotN/odom -> robotN/base_footprint, sharing one clock.
 Each course node runs in its robot's namespace (relative cmd_vel) with its
-frames set by parameter; both must finish within tolerance. They run in
-precise mode (~precise from the .test): two simulators and two courses at
-5x load the CPU enough that the book mode's full-speed stops overshoot by
-scheduling delay, and any cross-talk between the robots would show up as
-errors of metres anyway.
+frames set by parameter; both must finish within tolerance, in precise
+mode (~precise) with legs of ~goal_distance (m) from the .test: any
+cross-talk between the robots would show up as errors of metres.
 """
 import os
 import sys
@@ -33,6 +31,7 @@ class TwoRobotsTest(unittest.TestCase):
         courses = dict((ns, CourseProcess(ns=ns, params={
             'precise': str(precise).lower(),
             'tf_timeout': float(rospy.get_param('~tf_timeout', 1.0)),
+            'goal_distance': float(rospy.get_param('~goal_distance', 1.0)),
             'odom_frame': ns + '/odom',
             'base_frame': '/%s/base_footprint' % ns}))  # slash gets stripped
             for ns in ROBOTS)

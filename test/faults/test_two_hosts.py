@@ -162,3 +162,20 @@ def test_master_killed_mid_course_the_course_finishes_and_says_so(hosts):
     assert done, course.text()
     assert status == 0, course.text()
     assert len(warned) == 1 and link.ADDRESSES['robot'] in warned[0], course.text()
+
+
+def test_a_slow_link_is_named_with_the_age_of_the_transform(hosts):
+    truth = start_robot(hosts)
+    proc, course = start_course(hosts)
+    # Slow from the course's start: start-up's many master calls would
+    # each take the 0.4 s round trip too.
+    course.wait_for('Following tf', 30)
+    hosts.set(delay=0.2)
+    status = proc.wait(60.0)
+    ages = [float(m.group(1)) for m in (re.search(r'is ([\d.]+) s old when used', line)
+                                          for _, line in course.lines) if m]
+    print('RESULT 200 ms link: course exit %d, tf age warnings %s s (limit '
+          '~max_tf_age 0.1 s); true end %.1f mm from the start'
+          % (status, ages, 1000 * math.hypot(*position(truth))))
+    assert status == 0, course.text()
+    assert ages and all(0.15 < age < 0.6 for age in ages), course.text()

@@ -40,6 +40,7 @@ from rbx1_nav.ros.node import start_node, wait_for_clock
 from rbx1_nav.transform_utils import Pose2D, normalize_angle, quat_to_angle
 
 BASE_FRAME_CANDIDATES = ('base_footprint', 'base_link')
+AGE_WARN_PERIOD = 10.0  # s between warnings about an old transform
 
 
 def common_params(rate):
@@ -56,6 +57,9 @@ def common_params(rate):
               'subscriber', **params.POSITIVE),
         param('tf_timeout', 1.0, params.number, 's',
               'abort when the transform is older than this', **params.POSITIVE),
+        param('max_tf_age', 0.1, params.number, 's',
+              'warn when the transform steered by is older than this '
+              '(a slow link to the robot)', **params.POSITIVE),
         param('start_delay', 0.0, params.number, 's',
               'pause before moving (e.g. for a bag recorder)', minimum=0.0),
     )
@@ -381,6 +385,7 @@ class MotionRunner(object):
                                         or reading[1] > last_stamp):
                 pose, last_stamp = reading
                 fresh_at = now
+                self._check_age(now - last_stamp)
             elif not blind and now - fresh_at > timeout:
                 self.stop()
                 raise CourseAborted(
@@ -400,6 +405,17 @@ class MotionRunner(object):
             raise rospy.ROSInterruptException('shutdown before the course ended')
         self.stop()
         return None if blind else pose
+
+    def _check_age(self, age):
+        """Warn (at most every AGE_WARN_PERIOD s) when the transform steered
+        by is older than ~max_tf_age: the robot has moved on since."""
+        limit = self.settings['max_tf_age']
+        if age.to_sec() > limit:
+            rospy.logwarn_throttle(
+                AGE_WARN_PERIOD, '%s: tf %s -> %s is %.3f s old when used (limit '
+                '~max_tf_age %.3f s): a slow link to the robot or a busy machine; '
+                'the course steers by where the robot was' % (
+                    self.name, self.odom_frame, self.followed, age.to_sec(), limit))
 
     def _ticks(self, blind):
         """The control ticks (ROS times), at ~rate; under lockstep, as a
