@@ -277,8 +277,9 @@ def markdown(results):
                 '| time | asked | course wall time | speed-up | final error | target |',
                 '|---|---|---|---|---|---|']
         for r in results['speed']:
-            out.append('| %s | %sx | %s s | %s x | %s mm, %s deg | %s |' % (
-                'lockstep' if r['lockstep'] else 'free-running', r['speed'],
+            out.append('| %s | %s | %s s | %s x | %s mm, %s deg | %s |' % (
+                'lockstep' if r['lockstep'] else 'free-running',
+                r['speed'] if r['speed'] == 'max' else r['speed'] + 'x',
                 fmt(r['wall_s']), fmt(r.get('speedup')), fmt(r['error_mm'], '%.2f'),
                 fmt(r['heading_deg'], '%+.3f'), r['target']))
         cpu = next((r['cpu_per_sim_s'] for r in results['speed'] if 'cpu_per_sim_s' in r), None)
@@ -340,8 +341,14 @@ def main():
     parser.add_argument('--runs', type=int, default=10)
     parser.add_argument('--robots', type=int, nargs='+', default=[1, 10, 20, 40, 80])
     parser.add_argument('--out', default=RESULTS)
+    parser.add_argument('--render', action='store_true',
+                        help='only redo the table and plot from OUT/latest.json')
     args = parser.parse_args()
     results = {}
+    if args.render:
+        with open(os.path.join(args.out, 'latest.json')) as f:
+            results = json.load(f)
+        args.sections = []
     if 'accuracy' in args.sections:
         results['accuracy'] = accuracy(args.runs)
     if 'speed' in args.sections:
