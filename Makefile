@@ -16,7 +16,7 @@ DEB_PACKAGES := catkin ros-cmake-modules python3-catkin-pkg python3-setuptools \
   python3-rosbag rosbash librostest-dev libgeometry-msgs-dev libnav-msgs-dev \
   libsensor-msgs-dev libstd-msgs-dev libtf2-ros-dev ros-robot-state-publisher \
   rviz xvfb catkin-lint python3-pytest python3-hypothesis python3-numpy \
-  python3-matplotlib python3-pil python3-std-srvs python3-dynamic-reconfigure \
+  python3-matplotlib python3-pil python3-std-srvs python3-dynamic-reconfigure python3-pytest-xdist \
   ros-message-generation ros-message-runtime python3-genpy python3-gencpp \
   libdynamic-reconfigure-config-init-mutex-dev
 SUDO := $(if $(filter 0,$(shell id -u)),,sudo)
@@ -43,10 +43,12 @@ build: deps
 lint: build
 	$(ROS) catkin_lint -W2 --strict $(WS)/src/rbx1_nav
 
-# Unit tests (pytest, no master), then every test/*.test through rostest;
-# pytest prints the one summary line for both.
+# Unit tests (pytest, no master), every test/*.test through rostest, and the
+# fault suite; pytest prints the one summary line for all. Two workers: the
+# rostests (one file) run one after another on one, the rest on the other.
 test: lint
-	$(ROS) python3 -m pytest test/unit test/integration test/faults -q -p no:cacheprovider --durations=10
+	$(ROS) python3 -m pytest test/unit test/integration test/faults -q -p no:cacheprovider \
+	  -n 2 --dist loadfile --durations=10
 
 unit:
 	python3 -m pytest test/unit -q -p no:cacheprovider

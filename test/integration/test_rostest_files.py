@@ -2,6 +2,11 @@
 
 This lets `make test` report unit and integration results in one pytest
 summary. `catkin_make run_tests` runs the same files through add_rostest().
+The files whose graph runs under lockstep at full speed
+(`sim_speed" value="max"`) cannot fall behind their clock, so they are
+collected by test_rostest_files_lockstep.py, which `make test`'s second
+worker runs beside this file's; the others, whose nodes follow a free
+clock, run here one after another.
 """
 import glob
 import os
@@ -10,15 +15,28 @@ import subprocess
 import pytest
 
 TEST_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-TEST_FILES = sorted(glob.glob(os.path.join(TEST_DIR, '*.test')))
+ALL_FILES = sorted(glob.glob(os.path.join(TEST_DIR, '*.test')))
 
 
-@pytest.mark.parametrize('test_file', TEST_FILES,
-                         ids=[os.path.basename(f) for f in TEST_FILES])
-def test_rostest(test_file):
+def at_full_speed(path):
+    with open(path) as f:
+        return '<arg name="sim_speed" value="max"/>' in f.read()
+
+
+LOCKSTEP_FILES = [f for f in ALL_FILES if at_full_speed(f)]
+TEST_FILES = [f for f in ALL_FILES if not at_full_speed(f)]
+
+
+def run_rostest(test_file):
     # Not --text: with it rostest exits 0 even when a test fails.
     proc = subprocess.run(['rostest', test_file],
                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                           universal_newlines=True, timeout=600)
     assert proc.returncode == 0, '%s failed:\n%s' % (
         os.path.basename(test_file), proc.stdout[-6000:])
+
+
+@pytest.mark.parametrize('test_file', TEST_FILES,
+                         ids=[os.path.basename(f) for f in TEST_FILES])
+def test_rostest(test_file):
+    run_rostest(test_file)
