@@ -40,7 +40,7 @@ class Realistic(unittest.TestCase):
         for ns, rec in cls.rec.items():
             assert wait_for(lambda: all(len(rec.snapshot(kind)) > 5
                                         for kind in ('odom', 'truth', 'imu')),
-                            30.0), '%s: odom, ground_truth or imu_data missing' % ns
+                            30.0, wall=True), '%s: odom, ground_truth or imu_data missing' % ns
         cls.phases = {}
         for phase, (v, w) in (('straight', (0.2, 0.0)), ('turn', (0.0, 1.0))):
             sent = {ns: rec.send(v, w) for ns, rec in cls.rec.items()}

@@ -5,6 +5,7 @@ itself). All waiting is in ROS time, so the tests behave the same at any
 simulation speed; the rostest time-limit is the wall-clock backstop.
 """
 import threading
+import time
 
 import rospy
 from geometry_msgs.msg import Twist
@@ -52,7 +53,7 @@ class Recorder:
 
     def send(self, v, w):
         """Publish Twist(v, w) once the robot listens; return the ROS time (s)."""
-        assert wait_for(lambda: self.cmd_pub.get_num_connections() > 0, 30.0), \
+        assert wait_for(lambda: self.cmd_pub.get_num_connections() > 0, 30.0, wall=True), \
             'nobody subscribes %s' % self.cmd_pub.resolved_name
         msg = Twist()
         msg.linear.x, msg.angular.z = v, w
@@ -64,13 +65,19 @@ class Recorder:
         return wait_for(lambda: motion_episode(self.snapshot('odom'), after), timeout)
 
 
-def wait_for(predicate, timeout, poll=0.02):
-    """Sleep in ROS time until ``predicate()`` holds; False after ``timeout`` s."""
-    deadline = rospy.Time.now().to_sec() + timeout
+def wait_for(predicate, timeout, poll=0.02, wall=False):
+    """Sleep until ``predicate()`` holds; False after ``timeout`` s of ROS
+    time, or of wall time with ``wall`` (for waits on other processes,
+    such as connections: simulated time may race meanwhile)."""
+    now = time.monotonic if wall else (lambda: rospy.Time.now().to_sec())
+    deadline = now() + timeout
     while not predicate():
-        if rospy.is_shutdown() or rospy.Time.now().to_sec() > deadline:
+        if rospy.is_shutdown() or now() > deadline:
             return False
-        rospy.sleep(poll)
+        if wall:
+            rospy.rostime.wallsleep(poll)
+        else:
+            rospy.sleep(poll)
     return True
 
 

@@ -35,7 +35,7 @@ class StraightLine(unittest.TestCase):
         cls.tf_buffer = tf2_ros.Buffer()
         cls.tf_listener = tf2_ros.TransformListener(cls.tf_buffer)
         cls.rec = Recorder()
-        assert wait_for(lambda: len(cls.rec.snapshot('odom')) > 5, 30.0), 'no odom'
+        assert wait_for(lambda: len(cls.rec.snapshot('odom')) > 5, 30.0, wall=True), 'no odom'
         cls.sent = cls.rec.send(cls.speed, 0.0)
         assert cls.rec.wait_stopped(cls.sent, 10 * cls.timeout + 60.0), 'robot never stopped'
         rospy.sleep(0.5)  # a few more messages while standing still
