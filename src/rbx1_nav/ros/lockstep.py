@@ -13,10 +13,10 @@ import time
 import warnings
 
 import rospy
+from std_srvs.srv import Trigger, TriggerResponse
 
 from rbx1_nav.lockstep import Gate
 from rbx1_nav.msg import Lockstep
-from std_srvs.srv import Trigger, TriggerResponse
 
 #: Relative topic on which motion nodes report to their simulator.
 NODE_TOPIC = 'lockstep'
@@ -29,10 +29,14 @@ JOIN_LIMIT = 10.0
 #: every namespace, like /clock itself).
 CLOCK_TOPIC = '/clock_lockstep'
 #: Wall seconds a keeper waits for a member before saying who it waits for.
-SLOW_MEMBER = 5.0
+SLOW_MEMBER = 1.0
 #: Wall seconds after which commands a member reported are taken as lost
 #: (a connection that dropped them), so time does not stop for good.
 LOST_COMMANDS = 1.0
+#: Wall seconds a member may hold time without a report before it is
+#: dropped (it rejoins with its next report): a stuck member must not stop
+#: every node's clock for good.
+SILENT_MEMBER = 3.0
 
 
 def enabled():
@@ -171,6 +175,13 @@ class Keeper(object):
                                       'way (%r); going on without them',
                                       self.owner, name, self.gate.members[name])
                         self.gate.forgive(name)
+                if time.monotonic() - started > SILENT_MEMBER:
+                    for name in self.gate.blocking(time_ns):
+                        rospy.logwarn('%s: %s has held simulated time at %.3f s for '
+                                      '%.0f s without a report; going on without it '
+                                      'until it reports again', self.owner, name,
+                                      time_ns * 1e-9, SILENT_MEMBER)
+                        self.gate.leave(name)
                 if time.monotonic() > warn_at:
                     warn_at += SLOW_MEMBER
                     rospy.logwarn('%s: simulated time waits at %.3f s for %s',
@@ -219,7 +230,15 @@ class Reporter(object):
                             % (join.resolved_name, err))
         if not answer.success:
             raise JoinError(answer.message)
-        return int(answer.message)
+        tick = int(answer.message)
+        # This node's /clock may lag the simulator's by a message: its time
+        # must reach the tick before it handles it (or it would look like
+        # time moving back).
+        while to_ns(rospy.Time.now()) < tick and not rospy.is_shutdown():
+            if time.monotonic() > deadline + JOIN_LIMIT:
+                raise JoinError('this node\'s clock did not reach the first tick')
+            rospy.rostime.wallsleep(0.0005)
+        return tick
 
     def ticks(self, rate, wait):
         """Join, then yield each tick (ns) at ``rate`` Hz; after each, report
