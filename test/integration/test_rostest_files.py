@@ -4,9 +4,9 @@ This lets `make test` report unit and integration results in one pytest
 summary. `catkin_make run_tests` runs the same files through add_rostest().
 The files whose graph runs under lockstep at full speed
 (`sim_speed" value="max"`) cannot fall behind their clock, so they are
-collected by test_rostest_files_lockstep.py, which `make test`'s second
-worker runs beside this file's; the others, whose nodes follow a free
-clock, run here one after another.
+collected by test_rostest_files_lockstep.py, which `make test` runs in
+two workers beside the other pytest suites; the others, whose nodes follow
+a free-running clock, run here, alone, after that.
 """
 import glob
 import os
