@@ -32,8 +32,13 @@ deps:
 	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends $$missing; \
 	else echo "deps: all $(words $(DEB_PACKAGES)) Debian packages present"; fi
 
+# A workspace built from another checkout keeps that checkout's copies
+# (install space, generated files) wherever they look newer: start afresh.
 build: deps
 	@mkdir -p $(WS)/src
+	@if [ -L $(WS)/src/rbx1_nav ] && [ "$$(readlink $(WS)/src/rbx1_nav)" != "$(CURDIR)" ]; then \
+	  echo "build: $(WS) was built from $$(readlink $(WS)/src/rbx1_nav): starting it afresh"; \
+	  rm -rf $(WS)/build $(WS)/devel $(WS)/install; fi
 	@ln -sfn $(CURDIR) $(WS)/src/rbx1_nav
 	@echo "build: catkin_make in $(WS) (log: $(WS)/build.log)"
 	@cd $(WS) && flock $(WS)/.build.lock catkin_make --force-cmake -DPYTHON_EXECUTABLE=/usr/bin/python3 > $(WS)/build.log 2>&1 \
@@ -44,15 +49,16 @@ lint: build
 	$(ROS) catkin_lint -W2 --strict $(WS)/src/rbx1_nav
 
 # Unit tests (pytest, no master), every test/*.test through rostest, and the
-# fault suite. First in two workers: everything but the rostests whose nodes
-# follow a free-running clock (those under lockstep at full speed cannot fall
-# behind, so they share the machine); then those alone, one after another.
+# fault suite. First in two workers, test by test: everything but the
+# rostests whose nodes follow a free-running clock (those under lockstep
+# cannot fall behind, so they share the machine); then those alone, one
+# after another.
 # The last line sums both runs.
 REPORTS := $(WS)/test_results
 test: lint
 	@mkdir -p $(REPORTS) && rm -f $(REPORTS)/shared.xml $(REPORTS)/alone.xml
 	@$(ROS) python3 -m pytest test/unit test/integration test/faults -q -p no:cacheprovider \
-	  -n 2 --dist loadfile --ignore=test/integration/test_rostest_files.py \
+	  -n 2 --dist loadgroup --ignore=test/integration/test_rostest_files.py \
 	  --junitxml=$(REPORTS)/shared.xml --durations=5; \
 	python3 -m pytest test/integration/test_rostest_files.py -q -p no:cacheprovider \
 	  --junitxml=$(REPORTS)/alone.xml --durations=5; \

@@ -9,6 +9,8 @@ down near each goal instead and ends within millimetres. Unlike the book's
 node, ~odom_frame and ~base_frame are honoured.
 
 Publishes:  cmd_vel (geometry_msgs/Twist), relative.
+Subscribes: odom (nav_msgs/Odometry), only its velocity: the summary counts the
+            spells the robot stood still while commanded to move.
 Parameters (private, book's values by default):
   ~goal_distance 1.0 m    ~goal_angle 90 deg (negative: clockwise)
   ~linear_speed 0.2 m/s   ~angular_speed 0.7 rad/s   ~angular_tolerance 2 deg

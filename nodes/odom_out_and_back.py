@@ -6,6 +6,8 @@ closed loop on the odom -> base transform. The course lives in
 rbx1_nav.out_and_back, the ROS side in rbx1_nav.ros.runner.
 
 Publishes:  cmd_vel (geometry_msgs/Twist), relative, so a namespace works.
+Subscribes: odom (nav_msgs/Odometry), only its velocity: the summary counts the
+            spells the robot stood still while commanded to move.
 Parameters (private, book's values by default):
   ~linear_speed 0.15 m/s   ~goal_distance 1.0 m   ~angular_speed 0.5 rad/s
   ~goal_angle pi rad       ~angular_tolerance 1.0 deg   ~rate 20 Hz

@@ -11,6 +11,8 @@ transform exists it is watched (staleness stops the robot) and the summary
 line gives the final pose.
 
 Publishes:  cmd_vel (geometry_msgs/Twist), relative.
+Subscribes: odom (nav_msgs/Odometry), only its velocity: the summary counts the
+            spells the robot stood still while commanded to move.
 Parameters (private, book's values by default):
   ~linear_speed 0.2 m/s   ~goal_distance 1.0 m   ~angular_speed 1.0 rad/s
   ~goal_angle pi rad      ~legs 2   ~pause 1.0 s   ~rate 50 Hz

@@ -203,7 +203,8 @@ class ClockWatch(object):
         return last - now
 
 
-def time_moved_back_text(seconds):
-    """The log line of a node that restarts when ROS time moves backwards."""
+def time_moved_back_text(seconds, then='Restarting from the next readings'):
+    """The log line of a node when ROS time moves backwards, and ``then``
+    what it does about it."""
     return ('ROS time moved backwards by %.1f s: a bag looping or the '
-            'simulator restarted? Restarting from the next readings' % seconds)
+            'simulator restarted? %s' % (seconds, then))

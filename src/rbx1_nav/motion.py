@@ -26,18 +26,22 @@ Rules shared by every course, as in the book:
   stops equally early); the cycle that ends it commands a stop;
 * precise mode (an :class:`Approach`) slows down near each goal (speed
   proportional to what remains, never below a creep speed), holds the
-  drive's starting heading, and ignores the tolerance.
+  drive's starting heading, and ignores the tolerance; it also steers by
+  where the robot will be when its command lands, not by where an old pose
+  says it was (:class:`InFlight`).
 """
+import bisect
 import math
-from collections import namedtuple
+from collections import deque, namedtuple
 
 from rbx1_nav import params
+from rbx1_nav.diff_drive import arc_step
 from rbx1_nav.params import param
 from rbx1_nav.transform_utils import Pose2D, normalize_angle
 
 __all__ = ['Command', 'STOP', 'Approach', 'Drive', 'Turn', 'TimedDrive',
-           'TimedTurn', 'Pause', 'Course', 'legs_course', 'pose_error',
-           'MAX_LINEAR_SPEED', 'MAX_ANGULAR_SPEED', 'PRECISE_PARAMS',
+           'TimedTurn', 'Pause', 'Course', 'InFlight', 'Stalls', 'legs_course',
+           'pose_error', 'MAX_LINEAR_SPEED', 'MAX_ANGULAR_SPEED', 'PRECISE_PARAMS',
            'approach', 'legs_params']
 
 Command = namedtuple('Command', 'linear angular')
@@ -326,6 +330,98 @@ class TimedTurn(_Timed, _Turn):
         _Timed.__init__(self, period)
 
 
+class InFlight(object):
+    """The commands sent, and where they will have taken the robot.
+
+    A pose read over a slow link is ``age`` seconds old, and the command
+    sent now takes effect some ``delay`` later. From the pose's stamp until
+    then the robot follows the commands sent from ``stamp - delay`` until
+    now: :meth:`predict` adds their arcs onto the pose. The pose alone
+    cannot tell the command delay, so it is taken as the link's delay the
+    other way: the smallest age of the last ``memory`` readings (a reading
+    is older than the link's delay when it waited for the control tick).
+    """
+
+    KEEP = 10.0  # s of commands kept
+
+    def __init__(self, memory=20):
+        self.sent = []  # (time sent, Command), oldest first
+        self.ages = deque(maxlen=memory)
+
+    @property
+    def delay(self):
+        """The command delay assumed (s)."""
+        return min(self.ages, default=0.0)
+
+    def read(self, age):
+        """A pose ``age`` s old was read."""
+        self.ages.append(max(0.0, age))
+
+    def record(self, now, command):
+        """The command sent at ``now`` (s)."""
+        self.sent.append((now, command))
+        while len(self.sent) > 1 and self.sent[1][0] < now - self.KEEP:
+            del self.sent[0]
+
+    def command_at(self, when):
+        """The command the robot runs at ``when`` (s): the last one sent
+        by ``when - delay``; STOP before the first."""
+        ran = bisect.bisect_right(self.sent, when - self.delay, key=lambda s: s[0])
+        return self.sent[ran - 1][1] if ran else STOP
+
+    def predict(self, pose, now, age):
+        """``pose``, read at ``now`` and ``age`` s old, moved on by the
+        commands in flight."""
+        start = now - age - self.delay
+        ends = [t for t, _ in self.sent[1:]] + [now]
+        for (sent, command), end in zip(self.sent, ends):
+            seconds = min(end, now) - max(sent, start)
+            if seconds > 0.0:
+                pose = arc_step(pose, command.linear * seconds,
+                                command.angular * seconds)
+        return pose
+
+
+class Stalls(object):
+    """Spells when the robot stood still while its commands moved it.
+
+    A robot's watchdog stops it when commands stop arriving (lost or late
+    on the link); motors switched off or a bumper hold it too. Fed the
+    velocity the robot's odometry measured, this counts the spells of at
+    least ``minimum`` seconds when every commanded speed (of the command
+    :class:`InFlight` says the robot runs then) was measured at under a
+    tenth of itself.
+    """
+
+    def __init__(self, in_flight, minimum=0.1):
+        self.in_flight = in_flight
+        self.minimum = minimum
+        self.count = 0
+        self.seconds = 0.0
+        self.since = None  # start of the current spell
+
+    def velocity(self, stamp, linear, angular):
+        """The robot's measured velocity at ``stamp`` (s); returns the
+        length of a spell that just ended (s), else None."""
+        commanded = self.in_flight.command_at(stamp)
+        pairs = [(abs(m), abs(c)) for m, c in ((linear, commanded.linear),
+                                               (angular, commanded.angular)) if c]
+        if pairs and all(measured < 0.1 * command for measured, command in pairs):
+            if self.since is None:
+                self.since = stamp
+            return None
+        return self.end(stamp)
+
+    def end(self, stamp):
+        """Close a spell at ``stamp``; its length (s) if it counts, else None."""
+        since, self.since = self.since, None
+        if since is None or stamp - since < self.minimum:
+            return None
+        self.count += 1
+        self.seconds += stamp - since
+        return stamp - since
+
+
 class Course(object):
     """Run a list of steps one control cycle at a time.
 
@@ -335,6 +431,9 @@ class Course(object):
     is :data:`STOP`. :meth:`pop_events` hands over progress lines for the
     log. ``yaw_total`` is the yaw turned since the start (unwrapped),
     ``turned`` and ``distance`` the progress of the latest turn and drive.
+    ``in_flight`` holds the commands it returned; a course with a precise
+    step steers by its predictions. ``stalls`` counts the spells the robot
+    stood still while commanded to move, from the velocities fed to it.
     """
 
     def __init__(self, steps):
@@ -352,6 +451,9 @@ class Course(object):
         self.motion_end_yaw = 0.0
         self.turned = 0.0
         self.distance = 0.0
+        self.predicts = any(getattr(step, 'approach', None) for step in self.steps)
+        self.in_flight = InFlight()
+        self.stalls = Stalls(self.in_flight)
 
     @property
     def done(self):
@@ -387,12 +489,23 @@ class Course(object):
             pose = step.ideal_end(pose)
         return pose
 
-    def update(self, pose, now):
-        """Advance the course with a new pose (Pose2D) at time ``now`` (s)."""
-        pose = Pose2D(*(float(v) for v in pose))
-        if not all(math.isfinite(v) for v in pose):
-            raise ValueError('pose has a non-finite value: %r' % (pose,))
+    def update(self, pose, now, age=0.0):
+        """Advance the course with a new pose (Pose2D) at time ``now`` (s);
+        ``age`` (s) is how old the pose is."""
+        pose, age = Pose2D(*(float(v) for v in pose)), float(age)
+        if not all(math.isfinite(v) for v in pose + (age,)):
+            raise ValueError('pose has a non-finite value: %r (age %r)'
+                             % (pose, age))
         now = float(now)
+        self.in_flight.read(age)
+        if self.predicts:
+            pose = self.in_flight.predict(pose, now, age)
+        command = self._advance(pose, now)
+        self.in_flight.record(now, command)
+        return command
+
+    def _advance(self, pose, now):
+        """:meth:`update` with the pose to steer by."""
         if self.start_time is None:
             self.start_time = now
             self.start_pose = pose

@@ -6,7 +6,8 @@ course), each with a TUN device, and runs a relay between the two TUN
 devices: every IP packet from one host goes through the relay to the
 other. ``tc netem`` is not in these kernels, so the relay is the link:
 ``set(delay=0.2)`` holds each packet 200 ms, ``set(loss=0.2)`` drops one
-in five, ``set(loss=1.0)`` cuts it. ``run(host, argv)`` starts a process on
+in five, ``set(loss=1.0)`` cuts it, ``set(loss=1.0, towards='robot')``
+cuts the way to the robot only. ``run(host, argv)`` starts a process on
 a host with ROS_IP and ROS_MASTER_URI set for it.
 
 Run as a script, this module is the relay itself (``python3 link.py
@@ -63,7 +64,8 @@ def relay(control, names):
     """Forward packets between the two namespaces' TUN devices forever."""
     fds = [_open_tun(name) for name in names]
     other = {fds[0]: fds[1], fds[1]: fds[0]}
-    settings, mtime = {'delay': 0.0, 'loss': 0.0}, None
+    host = dict(zip(fds, ADDRESSES))  # the devices' order is ADDRESSES's
+    settings, mtime = {'delay': 0.0, 'loss': 0.0, 'towards': None}, None
     queue, order = [], 0  # (due, order, fd, packet)
     sys.stdout.write('ready\n')
     sys.stdout.flush()
@@ -87,7 +89,8 @@ def relay(control, names):
         ready, _, _ = select.select(fds, [], [], timeout)
         for fd in ready:
             packet = os.read(fd, 65536)
-            if random.random() < settings['loss']:
+            if (settings['towards'] in (None, host[other[fd]])
+                    and random.random() < settings['loss']):
                 continue
             order += 1
             heapq.heappush(queue, (time.monotonic() + settings['delay'], order,
@@ -152,11 +155,12 @@ class TwoHosts(object):
                         ['ip', 'link', 'set', 'tun0', 'up']):
                 subprocess.check_call(['ip', 'netns', 'exec', ns] + cmd)
 
-    def set(self, delay=0.0, loss=0.0):
-        """Change the link: one-way ``delay`` (s) and ``loss`` (0..1)."""
+    def set(self, delay=0.0, loss=0.0, towards=None):
+        """Change the link: one-way ``delay`` (s) and ``loss`` (0..1), the
+        loss of the packets to one host only when ``towards`` names it."""
         tmp = self.control + '.tmp'
         with open(tmp, 'w') as f:
-            json.dump({'delay': delay, 'loss': loss}, f)
+            json.dump({'delay': delay, 'loss': loss, 'towards': towards}, f)
         os.replace(tmp, self.control)
 
     def run(self, host, argv, **popen):

@@ -58,14 +58,32 @@ class Lines(object):
     def text(self):
         return '\n'.join(line for _, line in self.lines)
 
+    def figures(self, pattern):
+        """The number ``pattern``'s group 1 matched, in each line it matches."""
+        return [float(m.group(1)) for m in (re.search(pattern, line)
+                                            for _, line in self.lines) if m]
 
-def position(lines):
-    """The last x, y of a ``rostopic echo -p .../position`` stream."""
+
+def echoed(lines):
+    """The last row (floats) of a ``rostopic echo -p .../pose/pose`` stream:
+    x, y, z and the orientation's x, y, z, w."""
     for _, line in reversed(lines.lines):
         fields = line.split(',')
-        if len(fields) >= 3 and fields[0].isdigit():
-            return float(fields[1]), float(fields[2])
+        if len(fields) >= 8 and fields[0].isdigit():
+            return [float(f) for f in fields[1:8]]
     return None
+
+
+def position(lines):
+    """The last x, y of the ground truth."""
+    row = echoed(lines)
+    return None if row is None else (row[0], row[1])
+
+
+def heading(lines):
+    """The last yaw (degrees) of the ground truth."""
+    row = echoed(lines)
+    return math.degrees(2.0 * math.atan2(row[5], row[6]))
 
 
 @pytest.fixture
@@ -78,37 +96,38 @@ def hosts():
 
 
 def start_robot(hosts):
-    """Master, fake robot and a ground-truth recorder on the robot host."""
+    """Master, fake robot and a ground-truth recorder on the robot host;
+    returns the recorder's and the robot's output lines."""
     pipe = dict(stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True)
     core = Lines(hosts.run('robot', ['roscore', '-p', str(link.MASTER_PORT)], **pipe))
     core.wait_for('started core service', 30)
-    hosts.run('robot', ['rosrun', 'rbx1_nav', 'fake_turtlebot.py'],
-              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    robot = Lines(hosts.run('robot', ['rosrun', 'rbx1_nav', 'fake_turtlebot.py'], **pipe))
     truth = Lines(hosts.run('robot', ['rostopic', 'echo', '-p',
-                                      '/ground_truth/pose/pose/position'], **pipe))
+                                      '/ground_truth/pose/pose'], **pipe))
     deadline = time.monotonic() + 30
     while position(truth) is None:
         assert time.monotonic() < deadline, 'no ground_truth:\n' + truth.text()
         time.sleep(0.05)
-    return truth
+    return truth, robot
 
 
-def start_course(hosts):
+def start_course(hosts, *extra):
     proc = hosts.run('workstation', ['rosrun', 'rbx1_nav', 'odom_out_and_back.py']
-                     + SHORT_COURSE, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                     universal_newlines=True)
+                     + SHORT_COURSE + list(extra), stdout=subprocess.PIPE,
+                     stderr=subprocess.STDOUT, universal_newlines=True)
     return proc, Lines(proc)
 
 
 def wait_moving(truth, distance=0.15, limit=30.0):
     deadline = time.monotonic() + limit
     while math.hypot(*position(truth)) < distance:
-        assert time.monotonic() < deadline, 'the robot never moved'
+        assert time.monotonic() < deadline, 'the robot never reached %.2f m: at %s' % (
+            distance, position(truth))
         time.sleep(0.02)
 
 
 def test_link_cut_mid_leg_stops_the_robot_and_the_course_exits(hosts):
-    truth = start_robot(hosts)
+    truth, _ = start_robot(hosts)
     proc, course = start_course(hosts)
     wait_moving(truth)
     at_cut = position(truth)
@@ -140,7 +159,7 @@ def test_link_cut_mid_leg_stops_the_robot_and_the_course_exits(hosts):
 
 
 def test_master_killed_mid_course_the_course_finishes_and_says_so(hosts):
-    truth = start_robot(hosts)
+    truth, _ = start_robot(hosts)
     proc, course = start_course(hosts)
     wait_moving(truth)
     core = next(p for p in hosts.procs if p.args[-3:] == ['roscore', '-p', str(link.MASTER_PORT)])
@@ -164,18 +183,76 @@ def test_master_killed_mid_course_the_course_finishes_and_says_so(hosts):
     assert len(warned) == 1 and link.ADDRESSES['robot'] in warned[0], course.text()
 
 
-def test_a_slow_link_is_named_with_the_age_of_the_transform(hosts):
-    truth = start_robot(hosts)
-    proc, course = start_course(hosts)
+def test_precise_mode_over_a_200ms_link_ends_at_its_start_and_names_the_age(hosts):
+    truth, _ = start_robot(hosts)
+    proc, course = start_course(hosts, '_precise:=true', '_precise_gain:=3.0',
+                                '_precise_min_linear_speed:=0.01',
+                                '_precise_min_angular_speed:=0.02')
     # Slow from the course's start: start-up's many master calls would
     # each take the 0.4 s round trip too.
     course.wait_for('Following tf', 30)
     hosts.set(delay=0.2)
-    status = proc.wait(60.0)
-    ages = [float(m.group(1)) for m in (re.search(r'is ([\d.]+) s old when used', line)
-                                          for _, line in course.lines) if m]
-    print('RESULT 200 ms link: course exit %d, tf age warnings %s s (limit '
-          '~max_tf_age 0.1 s); true end %.1f mm from the start'
-          % (status, ages, 1000 * math.hypot(*position(truth))))
+    status = proc.wait(90.0)
+    time.sleep(0.5)  # the ground truth of the stopped robot, over the link
+    ages = course.figures(r'is ([\d.]+) s old when used')
+    dist, yaw = 1000 * math.hypot(*position(truth)), heading(truth)
+    print('RESULT 200 ms link, precise mode: course exit %d, tf age warnings %s s (limit '
+          '~max_tf_age 0.1 s); true end %.2f mm and %+.3f deg from the start (limits '
+          '3 mm, 0.3 deg)' % (status, ages, dist, yaw))
     assert status == 0, course.text()
     assert ages and all(0.15 < age < 0.6 for age in ages), course.text()
+    assert dist < 3.0 and abs(yaw) < 0.3, course.text()
+
+
+def watchdog_stops(robot):
+    """Seconds of each stop the fake robot's watchdog logged."""
+    return robot.figures(r'cmd_vel again after ([\d.]+) s')
+
+
+def test_commands_cut_twice_the_summary_counts_both_watchdog_stops(hosts):
+    truth, robot = start_robot(hosts)
+    # TCP stalls the transform too (its acknowledgements travel the cut
+    # way): ~tf_timeout 3 s lets the course ride out each cut.
+    proc, course = start_course(hosts, '_goal_distance:=0.8', '_linear_speed:=0.15',
+                                '_legs:=1', '_tf_timeout:=3.0')
+    for _ in range(2):  # twice on the first leg
+        wait_moving(truth, distance=math.hypot(*position(truth)) + 0.1)
+        hosts.set(loss=1.0, towards='robot')
+        time.sleep(CMD_TIMEOUT + 0.5)
+        hosts.set()
+    status = proc.wait(60.0)
+    summary = course.first('Course complete')
+    held = re.search(r'stood still while commanded: (\d+) times', summary[1] if summary else '')
+    stops = watchdog_stops(robot)
+    print('RESULT commands cut twice for %.1f s: the robot\'s watchdog stopped it for %s s; '
+          'course exit %d, summary counts %s' % (CMD_TIMEOUT + 0.5, stops, status,
+                                                 held.group(1) if held else None))
+    assert status == 0, course.text()
+    assert len(stops) == 2 and all(stop > 0.2 for stop in stops), robot.text()
+    assert held and int(held.group(1)) == 2, course.text()
+
+
+def test_twenty_percent_loss_ends_the_course_safely_and_says_how(hosts):
+    truth, robot = start_robot(hosts)
+    proc, course = start_course(hosts)
+    course.wait_for('Following tf', 30)
+    hosts.set(loss=0.2)
+    try:
+        status = proc.wait(90.0)
+    except subprocess.TimeoutExpired:
+        pytest.fail('course still running 90 s into 20 % loss:\n' + course.text())
+    time.sleep(CMD_TIMEOUT + 1.0)  # the watchdog's time, then the truth over the link
+    at_exit = position(truth)
+    time.sleep(1.0)
+    errors = [line for _, line in course.lines if 'ERROR' in line]
+    summary = course.first('Course complete')
+    print('RESULT 20 %% loss: course exit %d; %s; the robot\'s watchdog stopped it for %s s'
+          % (status, summary[1].split('; ')[-1] if summary else errors, watchdog_stops(robot)))
+    # Either outcome is safe: the course completed and says how often the
+    # robot stood still, or the transform went stale and it stopped.
+    if status == 0:
+        assert summary and 'stood still while commanded: ' in summary[1], course.text()
+    else:
+        assert status == 1 and len(errors) == 1 and 'has not been updated' in errors[0], \
+            course.text()
+    assert position(truth) == at_exit, 'still moving after the course ended'

@@ -242,6 +242,15 @@ def wait_until(predicate, wall_limit=WALL_LIMIT):
     return False
 
 
+def wait_under_way(test, watch, start, course, also=lambda: True, distance=0.3):
+    """Wait until the robot is ``distance`` m from ``start`` (and ``also()``
+    holds), with the course still running; assert both."""
+    test.assertTrue(wait_until(lambda: (watch.moved_since(start) > distance
+                                        and also()) or not course.running()),
+                    'robot never moved')
+    test.assertTrue(course.running(), course.output)
+
+
 def check_completed_course(test, watch, course, start, expected_end=None):
     """Assert the course exited 0 and left the robot stopped near its goal.
 

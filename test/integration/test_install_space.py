@@ -21,6 +21,9 @@ ANGULAR_FIELDS = ['measured_angle', 'odom_angular_scale_correction', 'speed',
                   'start_test', 'test_angle', 'tolerance']
 SOURCE = os.path.dirname(os.path.dirname(os.path.dirname(
     os.path.abspath(__file__))))
+# One install space per run: its tests go to one worker (make test's
+# --dist loadgroup).
+pytestmark = pytest.mark.xdist_group('install_space')
 
 
 def workspace():

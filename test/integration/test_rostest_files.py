@@ -1,9 +1,11 @@
-"""Run every test/*.test file through rostest, one pytest case each.
+"""Run every test/*.test and test/faults/*.test file through rostest, one
+pytest case each.
 
 This lets `make test` report unit and integration results in one pytest
 summary. `catkin_make run_tests` runs the same files through add_rostest().
 The files whose graph runs under lockstep at full speed
-(`sim_speed" value="max"`) cannot fall behind their clock, so they are
+(`sim_speed" value="max"`), or that say BESIDE (every node that keeps time
+is a lockstep member), cannot fall behind their clock, so they are
 collected by test_rostest_files_lockstep.py, which `make test` runs in
 two workers beside the other pytest suites; the others, whose nodes follow
 a free-running clock, run here, alone, after that.
@@ -15,16 +17,28 @@ import subprocess
 import pytest
 
 TEST_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-ALL_FILES = sorted(glob.glob(os.path.join(TEST_DIR, '*.test')))
+ALL_FILES = sorted(glob.glob(os.path.join(TEST_DIR, '*.test'))
+                   + glob.glob(os.path.join(TEST_DIR, 'faults', '*.test')))
+
+
+BESIDE = '<!-- beside other tests: every timed node is a lockstep member -->'
+
+
+def _text(path):
+    with open(path) as f:
+        return f.read()
 
 
 def at_full_speed(path):
-    with open(path) as f:
-        return '<arg name="sim_speed" value="max"/>' in f.read()
+    return '<arg name="sim_speed" value="max"/>' in _text(path)
 
 
-LOCKSTEP_FILES = [f for f in ALL_FILES if at_full_speed(f)]
-TEST_FILES = [f for f in ALL_FILES if not at_full_speed(f)]
+def lockstep_only(path):
+    return at_full_speed(path) or BESIDE in _text(path)
+
+
+LOCKSTEP_FILES = [f for f in ALL_FILES if lockstep_only(f)]
+TEST_FILES = [f for f in ALL_FILES if not lockstep_only(f)]
 
 
 def run_rostest(test_file):
@@ -37,6 +51,6 @@ def run_rostest(test_file):
 
 
 @pytest.mark.parametrize('test_file', TEST_FILES,
-                         ids=[os.path.basename(f) for f in TEST_FILES])
+                         ids=[os.path.relpath(f, TEST_DIR) for f in TEST_FILES])
 def test_rostest(test_file):
     run_rostest(test_file)

@@ -33,16 +33,24 @@ class IdealRobot(object):
         self.yaw += angular * dt
 
 
-def run(machine, robot, t0=100.0, limit=600.0, dt=DT):
+def run(machine, robot, t0=100.0, limit=600.0, dt=DT, pose_delay=0,
+        tell_age=True):
     """Run the course like the node does, every ``dt`` s; return
-    (time, phase, command) rows."""
+    (time, phase, command) rows.
+
+    ``pose_delay`` periods of latency model a pose that reaches the node
+    late; the node tells the course its age unless ``tell_age`` is false.
+    """
     rows, t = [], t0
+    poses = [robot.pose] * (pose_delay + 1)
+    age = (pose_delay * dt,) if pose_delay and tell_age else ()
     while not machine.done:
         assert t - t0 < limit, 'course did not finish'
         phase_before = machine.phase
-        cmd = machine.update(robot.pose, t)
+        cmd = machine.update(poses[0], t, *age)
         rows.append((t, phase_before if machine.phase == 'pause' else
                      machine.phase, cmd))
         robot.step(cmd, dt)
+        poses = poses[1:] + [robot.pose]
         t += dt
     return rows

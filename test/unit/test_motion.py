@@ -11,9 +11,10 @@ from hypothesis import given, settings, strategies as st
 
 from ideal_robot import DT, IdealRobot, run
 from rbx1_nav import params
-from rbx1_nav.motion import (PRECISE_PARAMS, STOP, Approach, Course, Drive,
-                             Pause, TimedDrive, TimedTurn, Turn, approach,
-                             legs_course, legs_params, pose_error)
+from rbx1_nav.motion import (PRECISE_PARAMS, STOP, Approach, Command, Course,
+                             Drive, InFlight, Pause, Stalls, TimedDrive,
+                             TimedTurn, Turn, approach, legs_course,
+                             legs_params, pose_error)
 from rbx1_nav.transform_utils import Pose2D
 
 PRECISE = Approach(1.0, 4.0, 0.005, 0.01)
@@ -61,6 +62,74 @@ def test_square_precise_ends_at_its_start():
     assert abs(math.degrees(heading)) < 0.1
     assert course.ideal_end(Pose2D(1.0, -2.0, 0.4)) == pytest.approx(
         Pose2D(1.0, -2.0, 0.4))
+
+
+@pytest.mark.parametrize('periods', [4, 10])  # 0.2 s and 0.5 s each way
+def test_precise_mode_ends_at_its_start_over_a_slow_link(periods):
+    def out_and_back(tell_age):
+        robot = IdealRobot(delay=periods)
+        course = Course(legs_course(1.0, math.pi, 2, 0.15, 0.5, pause=1.0,
+                                    approach=PRECISE))
+        run(course, robot, pose_delay=periods, tell_age=tell_age)
+        dist, heading = pose_error(robot.pose, Pose2D(0.0, 0.0, 0.0))
+        return dist, abs(math.degrees(heading))
+
+    # The bound for 200 ms: 3 mm and 0.3 degrees.
+    dist, heading = out_and_back(tell_age=True)
+    assert dist < 0.003 and heading < 0.3
+    # Steering by the old pose instead overshoots and weaves.
+    dist, heading = out_and_back(tell_age=False)
+    assert dist > 0.003 or heading > 0.3
+
+
+def test_in_flight_adds_the_commands_sent_since_the_pose_less_the_link_delay():
+    flight = InFlight()
+    flight.record(10.0, Command(0.2, 0.0))
+    flight.record(11.0, Command(0.0, 0.5))
+    # The pose is 0.5 s old and commands take as long: those sent from
+    # 11.0 to 12.0 s are still to show.
+    flight.read(0.5)
+    assert flight.predict(Pose2D(1.0, 2.0, 0.0), 12.0, 0.5) == pytest.approx(
+        Pose2D(1.0, 2.0, 0.5))
+    # A reading reused while it ages does not lengthen the command delay
+    # (the smallest recent age, 0.5 s): from 10.0 s, the straight and the turn.
+    flight.read(1.5)
+    pose = flight.predict(Pose2D(0.0, 0.0, 0.0), 12.0, 1.5)
+    assert pose == pytest.approx(Pose2D(0.2 * 1.0, 0.0, 0.5))
+    assert flight.command_at(11.4) == Command(0.2, 0.0)  # sent by 10.9 s
+    assert flight.command_at(11.5) == Command(0.0, 0.5)
+    assert flight.command_at(9.0) == STOP
+    # A fresh pose on a fast link moves on by nothing.
+    fast = InFlight()
+    fast.record(10.0, Command(0.2, 0.0))
+    fast.read(0.0)
+    assert fast.predict(Pose2D(3.0, 0.0, 1.0), 10.05, 0.0) == Pose2D(3.0, 0.0, 1.0)
+
+
+def test_stalls_count_spells_of_standing_still_while_commanded_to_move():
+    flight = InFlight()
+    stalls = Stalls(flight, minimum=0.1)
+    flight.read(0.0)
+    flight.record(0.0, Command(0.2, 0.3))
+    flight.record(2.0, STOP)
+    spells = []
+    for i in range(60):  # odometry at 50 Hz for 1.2 s, then at rest
+        t = 0.02 * i
+        if 0.3 <= t < 0.5 or 0.8 <= t < 0.84:  # held (0.2 s), then a blink
+            measured = (0.0, 0.001)  # a tenth of the command is still
+        elif 0.6 <= t < 0.7:
+            measured = (0.2, 0.0)  # turning stopped, not driving: no stall
+        else:
+            measured = (0.19, 0.29)
+        spells.append(stalls.velocity(t, *measured))
+    for t in (2.1, 2.2, 2.3):  # stopped as commanded: no stall
+        spells.append(stalls.velocity(t, 0.0, 0.0))
+    assert [round(s, 3) for s in spells if s is not None] == [0.2]
+    assert stalls.count == 1 and stalls.seconds == pytest.approx(0.2)
+    # A spell still open at the end of the course counts too.
+    flight.record(3.0, Command(0.1, 0.0))
+    stalls.velocity(3.0, 0.0, 0.0)
+    assert stalls.end(3.5) == pytest.approx(0.5) and stalls.count == 2
 
 
 def test_square_book_mode_stops_each_corner_up_to_the_tolerance_short():

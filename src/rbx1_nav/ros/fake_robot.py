@@ -20,6 +20,7 @@ from tf2_msgs.msg import TFMessage
 from rbx1_nav.diff_drive import DiffDriveConfig, covariance_from_diagonal
 from rbx1_nav.fake_robot import (GPS_UNKNOWN_VARIANCE, MAX_CATCH_UP,
                                  WARN_PERIOD)
+from rbx1_nav.input_check import time_moved_back_text
 from rbx1_nav.ros import lockstep
 from rbx1_nav.throttle import Throttle
 from rbx1_nav.transform_utils import strip_leading_slash, yaw_to_quaternion
@@ -93,6 +94,7 @@ class RobotTopics:
         self.pose_cov = covariance_from_diagonal(values['pose_covariance_diagonal'])
         self.twist_cov = covariance_from_diagonal(values['twist_covariance_diagonal'])
         self.was_timed_out = True
+        self.stopped_at = None  # when the watchdog last stopped the base
         self.throttle = Throttle(WARN_PERIOD)
 
         # Room for a whole catch-up burst (MAX_CATCH_UP of steps published
@@ -154,18 +156,22 @@ class RobotTopics:
                           msg.angular.z, cfg.max_linear_speed,
                           cfg.max_angular_speed)
 
-    def report_watchdog(self):
+    def report_watchdog(self, stamp):
         """Log once each time the watchdog stops or releases the base."""
         timed_out = self.robot.timed_out
         if timed_out and not self.was_timed_out:
             rospy.loginfo('%s: no cmd_vel for %g s; stopping', self.log_name,
                           self.robot.config.cmd_timeout)
+            self.stopped_at = stamp
+        elif self.was_timed_out and not timed_out and self.stopped_at is not None:
+            rospy.loginfo('%s: cmd_vel again after %.2f s stopped by the watchdog',
+                          self.log_name, (stamp - self.stopped_at).to_sec())
         self.was_timed_out = timed_out
 
     def publish(self, stamp):
-        """After a step: the watchdog's log line, then odom, its tf, joint
+        """After a step: the watchdog's log lines, then odom, its tf, joint
         states, ground truth, the gyro and GPS."""
-        self.report_watchdog()
+        self.report_watchdog(stamp)
         robot = self.robot
         odom_pose = robot.odom
         odom = fill_odometry(Odometry(), stamp, self.odom_frame, self.base_frame,
@@ -251,9 +257,8 @@ def spin_simulator(rate, step, robots, log_name):
 
 
 def _time_moved_back(log_name, err):
-    rospy.logwarn('%s: ROS time moved backwards by %.1f s: a bag looping or the '
-                  'simulator restarted? Restarting from the new time',
-                  log_name, err.time)
+    rospy.logwarn('%s: %s', log_name,
+                  time_moved_back_text(err.time, 'Restarting from the new time'))
 
 
 def spin_on_ros_time(rate, step, log_name):

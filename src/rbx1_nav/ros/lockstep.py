@@ -204,9 +204,13 @@ class Reporter(object):
         self.joined = False
         self.left = False  # after leave(), until join(): no more reports
 
+    def listeners(self):
+        """Node names of the gate's owners that take these reports."""
+        return {c.endpoint_id for c in self.pub.impl.connections}
+
     def connected(self):
         """True once the gate's owner listens (a report would arrive)."""
-        return self.pub.get_num_connections() > 0
+        return bool(self.listeners())
 
     def join(self, wait):
         """Join the simulator's lockstep through JOIN_SERVICE, waiting up to

@@ -20,6 +20,7 @@ the start-up waits for the clock, the transform and a cmd_vel subscriber
 (~tf_wait) count wall seconds, since they wait for other processes rather
 than for the robot.
 """
+import collections
 import math
 import socket
 import threading
@@ -31,8 +32,10 @@ import rospy
 import tf2_ros
 import yaml
 from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
 
 from rbx1_nav import params
+from rbx1_nav.input_check import time_moved_back_text
 from rbx1_nav.motion import control_rates, pose_error
 from rbx1_nav.params import param
 from rbx1_nav.ros import lockstep
@@ -40,7 +43,8 @@ from rbx1_nav.ros.node import start_node, wait_for_clock
 from rbx1_nav.transform_utils import Pose2D, normalize_angle, quat_to_angle
 
 BASE_FRAME_CANDIDATES = ('base_footprint', 'base_link')
-AGE_WARN_PERIOD = 10.0  # s between warnings about an old transform
+WARN_PERIOD = 10.0  # s between warnings about an old transform or a stall
+MASTER_CHECKS = 3  # failed connections in a row before the master is gone
 
 
 def common_params(rate):
@@ -131,12 +135,34 @@ class MotionRunner(object):
         rospy.on_shutdown(self.halt)
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = _Listener(self.tf_buffer)
+        # The velocities the robot measured, for Course.stalls (drained by
+        # the control loop, so the course is only touched in one thread).
+        self.velocities = collections.deque(maxlen=1000)
+        self.odom_sub = rospy.Subscriber('odom', Odometry, self._on_odom,
+                                         queue_size=100, tcp_nodelay=True)
         self._clock_ready = False
         self.lockstep = (lockstep.Reporter(lockstep.NODE_TOPIC)
                          if lockstep.enabled() else None)
         # Lockstep: the followed transform is the simulator's, published at
         # each of this node's ticks.
         self.follow_steps = False
+
+    def _on_odom(self, msg):
+        twist = msg.twist.twist
+        self.velocities.append((msg.header.stamp.to_sec(), twist.linear.x,
+                                twist.angular.z))
+
+    def _check_stalls(self, course):
+        """Feed the robot's measured velocities to ``course.stalls``; warn
+        (throttled) of each spell it stood still while commanded to move."""
+        while self.velocities:
+            spell = course.stalls.velocity(*self.velocities.popleft())
+            if spell is not None:
+                rospy.logwarn_throttle(
+                    WARN_PERIOD, '%s: the robot stood still for %.2f s while '
+                    'commanded to move: stopped by its watchdog (commands late '
+                    'or lost on the way to it?) or held (motors off, bumper)'
+                    % (self.name, spell))
 
     def _send(self, twist):
         """Publish on cmd_vel, counted for the lockstep gate."""
@@ -216,7 +242,8 @@ class MotionRunner(object):
         ROS 1's topic connections are peer to peer and outlive the master,
         so the course goes on; but nothing new can connect. The check is a
         TCP connect with a timeout, in a thread of its own, so no master
-        call can block the control loop.
+        call can block the control loop; it must fail MASTER_CHECKS times
+        in a row, so a lossy link does not make the warning come and go.
         """
         uri = rosgraph.get_master_uri()
         address = urllib.parse.urlsplit(uri)
@@ -224,24 +251,26 @@ class MotionRunner(object):
         def reachable():
             try:
                 socket.create_connection((address.hostname, address.port or 11311),
-                                         timeout=1.0).close()
+                                         timeout=2.0).close()
                 return None
             except OSError as err:
                 return err.strerror or str(err)
 
         def watch():
-            gone = None
+            failures, gone = 0, False
             while not rospy.is_shutdown():
                 rospy.rostime.wallsleep(1.0)
                 problem = reachable()
-                if problem and not gone:
+                failures = failures + 1 if problem else 0
+                if failures == MASTER_CHECKS:
+                    gone = True
                     rospy.logwarn('%s: the ROS master at %s is unreachable (%s): '
                                   'the course goes on over the connections it has, '
                                   'but no node or topic can join until it is back',
                                   self.name, uri, problem)
                 elif gone and not problem:
+                    gone = False
                     rospy.loginfo('%s: the ROS master at %s is back', self.name, uri)
-                gone = problem
 
         threading.Thread(target=watch, name='master_watch', daemon=True).start()
 
@@ -319,7 +348,7 @@ class MotionRunner(object):
         takers = {c.endpoint_id for c in self.cmd_vel.impl.connections}
         if self.lockstep is None:
             return bool(takers)
-        keepers = {c.endpoint_id for c in self.lockstep.pub.impl.connections}
+        keepers = self.lockstep.listeners()
         return bool(keepers) and keepers <= takers
 
     def _deadline(self, seconds):
@@ -385,7 +414,7 @@ class MotionRunner(object):
                                         or reading[1] > last_stamp):
                 pose, last_stamp = reading
                 fresh_at = now
-                self._check_age(now - last_stamp)
+                self._check_age((now - last_stamp).to_sec(), course.predicts)
             elif not blind and now - fresh_at > timeout:
                 self.stop()
                 raise CourseAborted(
@@ -396,7 +425,9 @@ class MotionRunner(object):
                         (now - fresh_at).to_sec(), timeout.to_sec()))
             if pose is None:  # found a moment ago; lookups may lag a cycle
                 continue
-            self.publish(course.update(pose, now.to_sec()))
+            self._check_stalls(course)
+            age = 0.0 if blind else (now - last_stamp).to_sec()
+            self.publish(course.update(pose, now.to_sec(), age))
             for event in course.pop_events():
                 rospy.loginfo(event)
             if course.done:
@@ -404,18 +435,22 @@ class MotionRunner(object):
         if not course.done:
             raise rospy.ROSInterruptException('shutdown before the course ended')
         self.stop()
+        self._check_stalls(course)
+        course.stalls.end(rospy.Time.now().to_sec())
         return None if blind else pose
 
-    def _check_age(self, age):
-        """Warn (at most every AGE_WARN_PERIOD s) when the transform steered
-        by is older than ~max_tf_age: the robot has moved on since."""
+    def _check_age(self, age, predicts):
+        """Warn (at most every WARN_PERIOD s) when the transform steered
+        by is ``age`` s old, more than ~max_tf_age: the robot has moved on
+        since."""
         limit = self.settings['max_tf_age']
-        if age.to_sec() > limit:
+        if age > limit:
             rospy.logwarn_throttle(
-                AGE_WARN_PERIOD, '%s: tf %s -> %s is %.3f s old when used (limit '
+                WARN_PERIOD, '%s: tf %s -> %s is %.3f s old when used (limit '
                 '~max_tf_age %.3f s): a slow link to the robot or a busy machine; '
-                'the course steers by where the robot was' % (
-                    self.name, self.odom_frame, self.followed, age.to_sec(), limit))
+                '%s' % (self.name, self.odom_frame, self.followed, age, limit,
+                        'precise mode adds the commands sent since' if predicts
+                        else 'the course steers by where the robot was'))
 
     def _ticks(self, blind):
         """The control ticks (ROS times), at ~rate; under lockstep, as a
@@ -443,41 +478,46 @@ class MotionRunner(object):
         reports to (not from a filter, whose stamps are not its steps)."""
         frames = yaml.safe_load(self.tf_buffer.all_frames_as_yaml()) or {}
         broadcaster = frames.get(self.followed, {}).get('broadcaster')
-        return broadcaster in {c.endpoint_id
-                               for c in self.lockstep.pub.impl.connections}
-
-    def _fresh_stamp(self, tick, give_up):
-        """Under lockstep: wait for a transform stamped at ``tick`` ns or
-        later, or until ROS time passes ``give_up`` (the simulator is gone
-        and the clock runs without it); the latest stamp (ns) or None."""
-        def latest():
-            reading = self.lookup()
-            return None if reading is None else lockstep.to_ns(reading[1])
-
-        while not rospy.is_shutdown():
-            if self.tf_listener.wait(lambda: (latest() or 0) >= tick, 0.01):
-                break
-            now = rospy.Time.now()
-            if now > give_up:
-                break
-            if lockstep.to_ns(now) < tick:  # a new clock, from further back
-                raise rospy.ROSTimeMovedBackwardsException(
-                    (tick - lockstep.to_ns(now)) * 1e-9)
-        return latest()
+        return broadcaster in self.lockstep.listeners()
 
     def _reading(self, now, give_up):
-        """(pose, stamp) for the tick at ``now``: under lockstep, the
-        simulator's step at that very time (waiting until ROS time
-        ``give_up`` for it)."""
-        if self.follow_steps:
-            self._fresh_stamp(lockstep.to_ns(now), give_up)
+        """(pose, stamp) for the tick at ``now``, or None.
+
+        Under lockstep, following the simulator's transform, first wait for
+        its step at that very time, or until ROS time passes ``give_up``
+        (the simulator is gone and the clock runs on without it).
+        """
+        tick = lockstep.to_ns(now)
+        while self.follow_steps and not rospy.is_shutdown():
+            if self.tf_listener.wait(lambda: self._stamp() >= tick, 0.01):
+                break
+            clock = rospy.Time.now()
+            if clock > give_up:
+                break
+            if lockstep.to_ns(clock) < tick:  # a new clock, from further back
+                raise rospy.ROSTimeMovedBackwardsException(
+                    (tick - lockstep.to_ns(clock)) * 1e-9)
         return self.lookup()
 
+    def _stamp(self):
+        """Stamp (ns) of the latest transform followed; 0 if none."""
+        reading = self.lookup()
+        return 0 if reading is None else lockstep.to_ns(reading[1])
+
     def summarize(self, course, final):
-        """Log the final pose against the start and the course time."""
+        """Log the final pose against the start, the course time, and the
+        spells the robot stood still while commanded to move."""
+        stalls = course.stalls
+        if self.odom_sub.get_num_connections() == 0:
+            held = 'unknown (nothing on %s)' % self.odom_sub.resolved_name
+        else:
+            held = ('%d times, %.1f s in all (its watchdog, or commands '
+                    'late)' % (stalls.count, stalls.seconds)
+                    if stalls.count else 'never')
         if final is None:
             rospy.loginfo('Course complete in %.1f s (no odometry: final pose '
-                          'unknown)', course.elapsed)
+                          'unknown); stood still while commanded: %s',
+                          course.elapsed, held)
             return
         start = course.start_pose
         error, heading = pose_error(final, course.ideal_end(start))
@@ -485,12 +525,12 @@ class MotionRunner(object):
             'Course complete in %.1f s: final pose relative to start in %s: '
             'dx %+.1f mm, dy %+.1f mm, dyaw %+.2f deg; error from the ideal '
             'end pose: position %.1f mm, heading %+.2f deg; control loop '
-            '%.1f Hz mean, %d Hz slowest second',
+            '%.1f Hz mean, %d Hz slowest second; stood still while commanded: %s',
             course.elapsed, self.odom_frame, 1000.0 * (final.x - start.x),
             1000.0 * (final.y - start.y),
             math.degrees(normalize_angle(final.yaw - start.yaw)),
             1000.0 * error, math.degrees(heading),
-            *control_rates(self.tick_times))
+            *control_rates(self.tick_times), held)
 
 
 def guarded(name, runner, work):
@@ -505,8 +545,7 @@ def guarded(name, runner, work):
     except CourseAborted as err:
         rospy.logerr('%s: %s', name, err)
     except rospy.ROSTimeMovedBackwardsException as err:
-        rospy.logerr('%s: ROS time moved backwards by %.1f s: a bag looping or '
-                     'the simulator restarted? Stopped the robot.', name, err.time)
+        rospy.logerr('%s: %s', name, time_moved_back_text(err.time, 'Stopped the robot.'))
     except rospy.ROSInterruptException:
         rospy.logwarn('%s: interrupted; robot stopped', name)
     except Exception as err:  # log it, stop the robot, exit non-zero

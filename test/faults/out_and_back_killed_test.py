@@ -14,9 +14,9 @@ import unittest
 import rospy
 import rostest
 
-sys.path.insert(0, os.path.join(os.path.dirname(__file__), 'helpers'))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from course_harness import (CourseProcess, RobotWatch, wait_sim,  # noqa: E402
-                            wait_until)
+                            wait_under_way)
 
 
 class KilledTest(unittest.TestCase):
@@ -27,9 +27,7 @@ class KilledTest(unittest.TestCase):
         start = watch.wait_for_truth()
         course = CourseProcess()
         try:
-            self.assertTrue(wait_until(lambda: watch.moved_since(start) > 0.3
-                                       or not course.running()))
-            self.assertTrue(course.running(), course.output)
+            wait_under_way(self, watch, start, course)
             at_kill = watch.pose()
             course.proc.send_signal(signal.SIGKILL)
             course.wait(wall_limit=10.0)

@@ -2,21 +2,32 @@
 """rostest: the fake TurtleBot survives absurd and non-finite commands.
 
 Speeds of 1e9 are clamped to the limits; a NaN or infinite command is taken
-as a stop (well before the watchdog would act); no input ever makes the
-published pose non-finite. Limits are read from the node's parameters.
+as a stop (well before the watchdog would act); a 1 kHz flood of such
+commands neither slows the simulation nor floods the log; no input ever
+makes the published pose non-finite. Limits are read from the node's
+parameters.
 """
+import itertools
 import math
+import os
 import sys
+import time
 import unittest
 
 import rospy
 import rostest
+from geometry_msgs.msg import Twist
+from rosgraph_msgs.msg import Log
 
-from fake_turtlebot_recorder import Recorder, motion_episode, planar, wait_for
+from rbx1_nav.fake_robot import WARN_PERIOD
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..'))
+from fake_turtlebot_recorder import Recorder, motion_episode, planar, wait_for  # noqa: E402
 
 PKG = 'rbx1_nav'
 NODE = 'fake_turtlebot/'
 INF, NAN = float('inf'), float('nan')
+FLOOD = 2.0  # wall s of the 1 kHz flood
 
 
 def twists_after(rec, t):
@@ -64,7 +75,48 @@ class Safety(unittest.TestCase):
             self.assertLess(stopped - sent_bad, self.stop_within, bad)
             self.assertLess(self.stop_within, self.timeout)
 
-    def test_3_pose_stays_finite_and_node_keeps_running(self):
+    def test_3_a_1khz_flood_holds_the_rate_and_throttles_the_warnings(self):
+        warnings = []
+        rospy.Subscriber('/rosout', Log, lambda m: m.name == '/fake_turtlebot'
+                         and m.level >= Log.WARN and warnings.append(m), queue_size=10000)
+        pub = rospy.Publisher('cmd_vel', Twist, queue_size=1000, tcp_nodelay=True)
+        self.assertTrue(wait_for(lambda: pub.get_num_connections() > 0, 30.0, wall=True))
+        bad = itertools.cycle([(NAN, 0.0), (0.1, INF), (1e9, -1e9), (-INF, NAN), (0.1, 0.0)])
+
+        def window(send):
+            """Simulated seconds that pass in FLOOD wall seconds; commands sent."""
+            start, wall, sent = rospy.Time.now(), time.monotonic(), 0
+            while time.monotonic() - wall < FLOOD:
+                if send:
+                    msg = Twist()
+                    msg.linear.x, msg.angular.z = next(bad)
+                    pub.publish(msg)
+                    sent += 1
+                rospy.rostime.wallsleep(max(0.0, wall + sent * 1e-3 - time.monotonic()))
+            return start.to_sec(), (rospy.Time.now() - start).to_sec(), sent
+
+        _, quiet, _ = window(send=False)
+        began, flooded, sent = window(send=True)
+        stamps = [planar(m)[0] for m in self.rec.snapshot('odom')]
+        during = [t for t in stamps if began <= t <= began + flooded]
+        gaps = [b - a for a, b in zip(during, during[1:])]
+        step = 1.0 / rospy.get_param(NODE + 'rate')
+        flood_warnings = [m for m in warnings if m.header.stamp.to_sec() >= began]
+        # Each kind (non-finite, clamped) at most once a WARN_PERIOD of ROS time.
+        allowed = 2 * (math.ceil(flooded / WARN_PERIOD) + 1)
+        print('RESULT 1 kHz flood: %d commands in %.1f s; simulated time advanced %.2f s '
+              '(%.2f s in the same wall time before it); %d odom messages, largest gap '
+              '%.3f s (step %.3f s); %d warnings (allowed %d)' % (
+                  sent, FLOOD, flooded, quiet, len(during), max(gaps), step,
+                  len(flood_warnings), allowed))
+        self.assertGreater(sent, 0.8 * FLOOD * 1000)
+        self.assertGreater(flooded, 0.5 * quiet)  # the simulation kept its pace
+        self.assertLess(max(gaps), 1.5 * step)    # and published every step
+        self.assertGreater(len(flood_warnings), 0)
+        self.assertLessEqual(len(flood_warnings), allowed,
+                             [m.msg for m in flood_warnings])
+
+    def test_4_pose_stays_finite_and_node_keeps_running(self):
         last = rospy.Time.now().to_sec()
         self.assertTrue(wait_for(lambda: twists_after(self.rec, last), 60.0))
         for topic in ('odom', 'truth'):

@@ -16,7 +16,7 @@ import unittest
 import rospy
 import rostest
 
-sys.path.insert(0, os.path.join(os.path.dirname(__file__), 'helpers'))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from course_harness import CourseProcess, RobotWatch  # noqa: E402
 
 

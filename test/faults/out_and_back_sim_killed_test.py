@@ -18,9 +18,9 @@ import unittest
 import rospy
 import rostest
 
-sys.path.insert(0, os.path.join(os.path.dirname(__file__), 'helpers'))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from course_harness import (CourseProcess, RobotWatch,  # noqa: E402
-                            RosoutWatch, is_zero, wait_until)
+                            RosoutWatch, is_zero, wait_under_way)
 
 
 class SimKilledTest(unittest.TestCase):
@@ -32,10 +32,7 @@ class SimKilledTest(unittest.TestCase):
         start = watch.wait_for_truth()
         course = CourseProcess(params={'tf_timeout': tf_timeout})
         try:
-            self.assertTrue(wait_until(lambda: watch.moved_since(start) > 0.3
-                                       or not course.running()),
-                            'robot never moved')
-            self.assertTrue(course.running(), course.output)
+            wait_under_way(self, watch, start, course)
             subprocess.check_call(['rosnode', 'kill', '/fake_turtlebot'])
             status = course.wait()
         finally:

@@ -14,9 +14,9 @@ import unittest
 import rospy
 import rostest
 
-sys.path.insert(0, os.path.join(os.path.dirname(__file__), 'helpers'))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from course_harness import (CourseProcess, RobotWatch, is_zero,  # noqa: E402
-                            wait_sim, wait_until)
+                            wait_sim, wait_under_way)
 
 
 class InterruptTest(unittest.TestCase):
@@ -27,9 +27,7 @@ class InterruptTest(unittest.TestCase):
         start = watch.wait_for_truth()
         course = CourseProcess()
         try:
-            self.assertTrue(wait_until(lambda: watch.moved_since(start) > 0.3
-                                       or not course.running()))
-            self.assertTrue(course.running(), course.output)
+            wait_under_way(self, watch, start, course)
             course.interrupt()
             status = course.wait(wall_limit=30.0)
         finally:

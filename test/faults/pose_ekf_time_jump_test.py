@@ -21,7 +21,7 @@ import rostest
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry
 
-sys.path.insert(0, os.path.join(os.path.dirname(__file__), 'helpers'))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from course_harness import RosoutWatch, wait_until  # noqa: E402
 
 
