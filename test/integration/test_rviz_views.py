@@ -9,6 +9,7 @@ ground truth (blue, both views), counted inside the 3D view, and RViz
 logged no error.
 """
 import os
+import select
 import socket
 import subprocess
 import time
@@ -57,34 +58,33 @@ def free_port():
         return s.getsockname()[1]
 
 
-def free_display():
-    for number in range(90, 190):
-        if not os.path.exists('/tmp/.X%d-lock' % number):
-            return number
-    pytest.skip('no free X display number')
-
-
-def wait_for(predicate, seconds):
-    deadline = time.monotonic() + seconds
-    while time.monotonic() < deadline:
-        if predicate():
-            return True
-        time.sleep(0.1)
-    return False
-
-
 class Processes(object):
     """Background processes, each logging to a file; all killed at the end."""
 
     def __init__(self, env, logdir):
         self.env, self.logdir, self.procs = env, logdir, []
 
-    def start(self, name, args):
+    def start(self, name, args, **popen):
         log = open(os.path.join(self.logdir, name + '.log'), 'w')
-        proc = subprocess.Popen(args, env=self.env, stdout=log,
-                                stderr=subprocess.STDOUT, start_new_session=True)
+        proc = subprocess.Popen(args, env=self.env, stdout=log, stderr=subprocess.STDOUT,
+                                start_new_session=True, **popen)
         self.procs.append(proc)
         return proc
+
+    def start_xvfb(self):
+        """A virtual screen on a display number Xvfb picks itself (two tests
+        picking one free number at once would share a screen); sets DISPLAY."""
+        read, write = os.pipe()
+        try:
+            self.start('xvfb', ['Xvfb', '-displayfd', str(write), '-screen', '0',
+                                '1280x800x24', '-nolisten', 'tcp'], pass_fds=(write,))
+        finally:
+            os.close(write)
+        with os.fdopen(read) as answer:  # the number once it listens, EOF if it died
+            number = answer.readline().strip() if select.select([answer], [], [], 30)[0] else ''
+        assert number, 'Xvfb did not start:\n' + self.log('xvfb')
+        self.env['DISPLAY'] = ':' + number
+        return self.env['DISPLAY']
 
     def log(self, name):
         with open(os.path.join(self.logdir, name + '.log')) as f:
@@ -109,16 +109,12 @@ def test_rviz_draws_odometry_and_ground_truth(config, tmp_path):
     launch, colours = CASES[config]
     artifacts = os.path.join(workspace(), 'test_artifacts')
     os.makedirs(artifacts, exist_ok=True)
-    display, port = free_display(), free_port()
-    env = dict(os.environ, DISPLAY=':%d' % display,
-               ROS_MASTER_URI='http://localhost:%d' % port,
+    port = free_port()
+    env = dict(os.environ, ROS_MASTER_URI='http://localhost:%d' % port,
                LIBGL_ALWAYS_SOFTWARE='1', QT_X11_NO_MITSHM='1')
     procs = Processes(env, str(tmp_path))
     try:
-        procs.start('xvfb', ['Xvfb', ':%d' % display, '-screen', '0',
-                             '1280x800x24', '-nolisten', 'tcp'])
-        assert wait_for(lambda: os.path.exists('/tmp/.X11-unix/X%d' % display),
-                        10), 'Xvfb did not start'
+        display = procs.start_xvfb()
         procs.start('robot', ['roslaunch', '-p', str(port), 'rbx1_nav', launch,
                               'sim_speed:=10', 'realistic:=true'])
         rviz = procs.start('rviz', ['rviz', '-d', os.path.join(ROOT, 'rviz', config)])
@@ -130,7 +126,7 @@ def test_rviz_draws_odometry_and_ground_truth(config, tmp_path):
         assert course.returncode == 0, course.stdout[-3000:]
         time.sleep(3.0)  # let RViz draw the last arrows (wall time: a screen)
         assert rviz.poll() is None, 'RViz exited:\n' + procs.log('rviz')
-        shot = image_grab.grab(xdisplay=':%d' % display)
+        shot = image_grab.grab(xdisplay=display)
     finally:
         procs.stop()
     path = os.path.join(artifacts, 'rviz_%s.png' % config[:-len('.rviz')])
