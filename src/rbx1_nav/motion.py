@@ -28,7 +28,8 @@ Rules shared by every course, as in the book:
   proportional to what remains, never below a creep speed), holds the
   drive's starting heading, and ignores the tolerance; it also steers by
   where the robot will be when its command lands, not by where an old pose
-  says it was (:class:`InFlight`).
+  says it was (:class:`InFlight`), and checks each goal once the robot
+  stands still, going back or on when it missed (``_OnOdometry``).
 """
 import bisect
 import math
@@ -168,9 +169,9 @@ class Step(object):
         """Where a perfect robot stands after this step, begun at ``pose``."""
         return pose
 
-    def _event(self, course, text, now):
-        course.log('%s%s in %.1f s' % (self.label + ': ' if self.label else '',
-                                       text, now - self.began))
+    def _event(self, course, text, now, note=''):
+        course.log('%s%s in %.1f s%s' % (self.label + ': ' if self.label else '',
+                                         text, now - self.began, note))
 
 
 class Pause(Step):
@@ -199,8 +200,9 @@ class _Drive(Step):
     def command(speed):
         return Command(speed, 0.0)
 
-    def amount(self):
-        return '%.3f m' % self.goal
+    @staticmethod
+    def size(metres):
+        return '%.3f m' % metres
 
     def ideal_end(self, pose):
         return Pose2D(pose.x + self.goal * math.cos(pose.yaw),
@@ -220,21 +222,80 @@ class _Turn(Step):
     def command(speed):
         return Command(0.0, speed)
 
-    def amount(self):
-        return '%.1f deg' % math.degrees(self.goal)
+    @staticmethod
+    def size(radians):
+        return '%.1f deg' % math.degrees(radians)
 
     def ideal_end(self, pose):
         return Pose2D(pose.x, pose.y, normalize_angle(pose.yaw + self.goal))
 
 
-class Drive(_Drive):
+class _OnOdometry(object):
+    """Closed loop on odometry: a mixin for Drive and Turn.
+
+    They define ``remaining`` (what is left of the goal, negative past it),
+    ``moving`` (the command at a speed along the goal, negative: back) and
+    ``creep`` (precise mode's creep speed). Precise mode checks each goal
+    on a still robot: once the stop it sent at the goal has reached the
+    robot and SETTLE s have passed, a goal missed by more than CHECK s of
+    creep is approached again, from whichever side, at most
+    MAX_CORRECTIONS times (a late stop on a slow link, a robot that
+    coasts).
+    """
+
+    SETTLE = 0.1  # s
+    CHECK = 0.1  # s of creep
+    MAX_CORRECTIONS = 3
+
+    def __init__(self, tolerance, approach):
+        self.tolerance = float(tolerance)
+        self.approach = approach
+        self.sense = 1.0  # 1: short of the goal; -1: back from past it
+        self.stopped = None  # when precise mode sent the stop to check
+        self.corrections = 0
+
+    def update(self, course, pose, now):
+        remaining = self.remaining(course, pose)
+        ap = self.approach
+        if ap is None:
+            if remaining - self.tolerance <= 0.0:
+                return self._end(course, now)
+            return self.moving(course, pose, self.speed)
+        if self.stopped is None:
+            if remaining * self.sense > 0.0:
+                speed = _clamp(ap.gain * abs(remaining), self.creep(), self.speed)
+                return self.moving(course, pose, self.sense * speed)
+            self.stopped = now
+        if not course.settled(self.stopped, self.SETTLE):
+            return STOP
+        if abs(remaining) <= self.creep() * self.CHECK:
+            return self._end(course, now)
+        if self.corrections == self.MAX_CORRECTIONS:
+            return self._end(course, now, remaining)
+        self.corrections += 1
+        self.stopped, self.sense = None, math.copysign(1.0, remaining)
+        return self.update(course, pose, now)
+
+    def _end(self, course, now, missed=None):
+        """Log the step's end (with its corrections) and end it."""
+        note = ''
+        if self.corrections:
+            note = ' after %d correction%s' % (self.corrections,
+                                               's' * (self.corrections > 1))
+        if missed is not None:
+            note += ', still %s off' % self.size(missed)
+        self._event(course, '%s %s' % (self.verb, self.size(self.done(course))),
+                    now, note)
+        return None
+
+
+class Drive(_OnOdometry, _Drive):
     """Drive ``distance`` metres (negative: backwards) on odometry."""
 
     def __init__(self, distance, speed, tolerance=0.0, approach=None,
                  heading_rate=MAX_ANGULAR_SPEED, label=''):
         _Drive.__init__(self, distance, speed, label)
-        self.tolerance = float(tolerance)
-        self.approach = approach
+        _OnOdometry.__init__(self, tolerance, approach)
         self.heading_rate = float(heading_rate)  # precise mode's turn rate cap
         self.start = None
 
@@ -242,51 +303,52 @@ class Drive(_Drive):
         Step.begin(self, course, pose, now)
         self.start = pose
 
-    def update(self, course, pose, now):
+    def remaining(self, course, pose):
         course.distance = math.hypot(pose.x - self.start.x,
                                      pose.y - self.start.y)
-        remaining = abs(self.goal) - course.distance
-        slack = 0.0 if self.approach else self.tolerance
-        if remaining - slack <= 0.0:
-            self._event(course, 'drove %.3f m' % course.distance, now)
-            return None
-        speed, angular = self.speed, 0.0
+        return abs(self.goal) - course.distance
+
+    @staticmethod
+    def done(course):
+        return course.distance
+
+    def creep(self):
+        return self.approach.min_linear_speed
+
+    def moving(self, course, pose, speed):
+        angular = 0.0
         if self.approach:
-            ap = self.approach
-            speed = _clamp(ap.gain * remaining, ap.min_linear_speed, self.speed)
             heading_error = normalize_angle(pose.yaw - self.start.yaw)
-            angular = _clamp(-ap.heading_gain * heading_error,
+            angular = _clamp(-self.approach.heading_gain * heading_error,
                              -self.heading_rate, self.heading_rate)
-        return Command(math.copysign(speed, self.goal), angular)
+        return Command(math.copysign(1.0, self.goal) * speed, angular)
 
 
-class Turn(_Turn):
+class Turn(_OnOdometry, _Turn):
     """Turn ``angle`` radians (negative: clockwise) on odometry."""
 
     def __init__(self, angle, speed, tolerance=0.0, approach=None, label=''):
         _Turn.__init__(self, angle, speed, label)
-        self.tolerance = float(tolerance)
-        self.approach = approach
+        _OnOdometry.__init__(self, tolerance, approach)
         self.anchor = None
 
     def begin(self, course, pose, now):
         Step.begin(self, course, pose, now)
         self.anchor = course.motion_end_yaw
 
-    def update(self, course, pose, now):
+    def remaining(self, course, pose):
         course.turned = course.yaw_total - self.anchor
-        direction = math.copysign(1.0, self.goal)
-        remaining = abs(self.goal) - course.turned * direction
-        slack = 0.0 if self.approach else self.tolerance
-        if remaining - slack <= 0.0:
-            self._event(course, 'turned %.1f deg' % math.degrees(course.turned),
-                        now)
-            return None
-        speed = self.speed
-        if self.approach:
-            ap = self.approach
-            speed = _clamp(ap.gain * remaining, ap.min_angular_speed, self.speed)
-        return self.command(direction * speed)
+        return abs(self.goal) - course.turned * math.copysign(1.0, self.goal)
+
+    @staticmethod
+    def done(course):
+        return course.turned
+
+    def creep(self):
+        return self.approach.min_angular_speed
+
+    def moving(self, course, pose, speed):
+        return self.command(math.copysign(1.0, self.goal) * speed)
 
 
 class _Timed(object):
@@ -307,7 +369,7 @@ class _Timed(object):
             self.first = now
         remaining = abs(self.goal) / self.speed - (now - self.first)
         if remaining <= 1e-9:
-            self._event(course, '%s %s open loop' % (self.verb, self.amount()),
+            self._event(course, '%s %s open loop' % (self.verb, self.size(self.goal)),
                         now)
             return None
         fraction = min(1.0, remaining / self.period)
@@ -390,8 +452,11 @@ class Stalls(object):
     velocity the robot's odometry measured, this counts the spells of at
     least ``minimum`` seconds when every commanded speed (of the command
     :class:`InFlight` says the robot runs then) was measured at under a
-    tenth of itself.
+    tenth of itself. ``moved`` is the stamp of the latest velocity that
+    was not standing still (over 0.1 mm/s or 0.01 deg/s), None before.
     """
+
+    STILL = (1e-4, 2e-4)  # m/s, rad/s
 
     def __init__(self, in_flight, minimum=0.1):
         self.in_flight = in_flight
@@ -399,10 +464,13 @@ class Stalls(object):
         self.count = 0
         self.seconds = 0.0
         self.since = None  # start of the current spell
+        self.moved = None
 
     def velocity(self, stamp, linear, angular):
         """The robot's measured velocity at ``stamp`` (s); returns the
         length of a spell that just ended (s), else None."""
+        if abs(linear) > self.STILL[0] or abs(angular) > self.STILL[1]:
+            self.moved = max(stamp, self.moved or stamp)
         commanded = self.in_flight.command_at(stamp)
         pairs = [(abs(m), abs(c)) for m, c in ((linear, commanded.linear),
                                                (angular, commanded.angular)) if c]
@@ -451,6 +519,7 @@ class Course(object):
         self.motion_end_yaw = 0.0
         self.turned = 0.0
         self.distance = 0.0
+        self.stamp = None  # of the pose last fed in (s)
         self.predicts = any(getattr(step, 'approach', None) for step in self.steps)
         self.in_flight = InFlight()
         self.stalls = Stalls(self.in_flight)
@@ -497,12 +566,20 @@ class Course(object):
             raise ValueError('pose has a non-finite value: %r (age %r)'
                              % (pose, age))
         now = float(now)
+        self.stamp = now - age
         self.in_flight.read(age)
         if self.predicts:
             pose = self.in_flight.predict(pose, now, age)
         command = self._advance(pose, now)
         self.in_flight.record(now, command)
         return command
+
+    def settled(self, sent, settle):
+        """True once the pose steered by is stamped ``settle`` s after the
+        robot ran the command sent at ``sent`` (s) and after the last motion
+        its measured velocities showed (see :class:`Stalls`)."""
+        ran = sent + self.in_flight.delay
+        return self.stamp >= max(ran, self.stalls.moved or ran) + settle - 1e-9
 
     def _advance(self, pose, now):
         """:meth:`update` with the pose to steer by."""

@@ -195,12 +195,15 @@ def test_precise_mode_over_a_200ms_link_ends_at_its_start_and_names_the_age(host
     status = proc.wait(90.0)
     time.sleep(0.5)  # the ground truth of the stopped robot, over the link
     ages = course.figures(r'is ([\d.]+) s old when used')
+    corrections = course.figures(r'after (\d+) corrections?')
     dist, yaw = 1000 * math.hypot(*position(truth)), heading(truth)
     print('RESULT 200 ms link, precise mode: course exit %d, tf age warnings %s s (limit '
-          '~max_tf_age 0.1 s); true end %.2f mm and %+.3f deg from the start (limits '
-          '3 mm, 0.3 deg)' % (status, ages, dist, yaw))
+          '~max_tf_age 0.1 s); steps corrected when checked %s; true end %.2f mm and '
+          '%+.3f deg from the start (limits 3 mm, 0.3 deg)' % (
+              status, ages, corrections, dist, yaw))
     assert status == 0, course.text()
-    assert ages and all(0.15 < age < 0.6 for age in ages), course.text()
+    # Over 0.4 s when TCP holds a burst back (seen: 0.78 s); under ~tf_timeout.
+    assert ages and all(0.15 < age < TF_TIMEOUT for age in ages), course.text()
     assert dist < 3.0 and abs(yaw) < 0.3, course.text()
 
 

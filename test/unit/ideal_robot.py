@@ -24,6 +24,8 @@ class IdealRobot(object):
         return Pose2D(self.x, self.y, normalize_angle(self.yaw))
 
     def step(self, cmd, dt):
+        """Run ``cmd`` (or the one the delay holds back) for ``dt`` s;
+        return the velocity run."""
         self.pending.append(cmd)
         linear, angular = self.pending.pop(0)
         angular += self.bias if linear else 0.0
@@ -31,6 +33,7 @@ class IdealRobot(object):
         self.x += linear * dt * math.cos(mid)
         self.y += linear * dt * math.sin(mid)
         self.yaw += angular * dt
+        return linear, angular
 
 
 def run(machine, robot, t0=100.0, limit=600.0, dt=DT, pose_delay=0,
@@ -40,6 +43,8 @@ def run(machine, robot, t0=100.0, limit=600.0, dt=DT, pose_delay=0,
 
     ``pose_delay`` periods of latency model a pose that reaches the node
     late; the node tells the course its age unless ``tell_age`` is false.
+    The course hears the velocities the robot ran, as the node's odometry,
+    from robots whose ``step`` returns them.
     """
     rows, t = [], t0
     poses = [robot.pose] * (pose_delay + 1)
@@ -50,7 +55,9 @@ def run(machine, robot, t0=100.0, limit=600.0, dt=DT, pose_delay=0,
         cmd = machine.update(poses[0], t, *age)
         rows.append((t, phase_before if machine.phase == 'pause' else
                      machine.phase, cmd))
-        robot.step(cmd, dt)
+        ran = robot.step(cmd, dt)
+        if ran is not None:  # robot models that tell the velocity they ran
+            machine.stalls.velocity(t + dt, *ran)
         poses = poses[1:] + [robot.pose]
         t += dt
     return rows

@@ -82,6 +82,53 @@ def test_precise_mode_ends_at_its_start_over_a_slow_link(periods):
     assert dist > 0.003 or heading > 0.3
 
 
+class LateStops(IdealRobot):
+    """An ideal robot whose stops arrive ``periods`` late (a stalled link):
+    it runs on with the last move meanwhile, ``times`` times."""
+
+    def __init__(self, periods, times=1):
+        IdealRobot.__init__(self)
+        self.periods, self.times = periods, times
+        self.held, self.late, self.previous = 0, STOP, STOP
+
+    def step(self, cmd, dt):
+        if cmd == STOP and self.previous != STOP and self.times:
+            self.held, self.times, self.late = self.periods, self.times - 1, self.previous
+        self.previous = cmd
+        if self.held:
+            self.held -= 1
+            cmd = self.late
+        return IdealRobot.step(self, cmd, dt)
+
+
+@pytest.mark.parametrize('step, reached', [
+    (Drive(0.5, 0.2, approach=Approach(1.0, 4.0, 0.01, 0.02)), lambda r: r.x - 0.5),
+    (Turn(-2.0, 1.0, approach=Approach(1.0, 4.0, 0.01, 0.02)), lambda r: -2.0 - r.yaw)])
+def test_precise_mode_goes_back_when_a_late_stop_took_the_robot_past(step, reached):
+    # The stop at the goal lands 0.5 s late: 5 mm (or 0.01 rad) past it at
+    # creep speed. Checked on the still robot, the goal is approached again
+    # from past it, to within 0.1 s of creep.
+    robot = LateStops(periods=10)
+    course = Course([step])
+    rows = run(course, robot)
+    assert abs(reached(robot)) < 0.1 * 0.02
+    backs = [c for _, _, c in rows if (c.linear or c.angular) * step.goal < 0]
+    assert backs and all(abs(c.linear or c.angular) <= 0.1 for c in backs)
+    assert re.fullmatch(r'(drove 0\.50\d m|turned -114\.\d deg) in [\d.]+ s after 1 '
+                        r'correction', course.pop_events()[0])
+
+
+def test_precise_mode_gives_up_after_three_corrections_and_says_how_far_off():
+    robot = LateStops(periods=20, times=10)  # every stop 1 s late
+    course = Course([Drive(0.5, 0.2, approach=Approach(1.0, 4.0, 0.01, 0.02))])
+    run(course, robot)
+    event = course.pop_events()[0]
+    # Each stop lands 1 s late, 10 mm past at creep speed; the course waits
+    # for the robot to stand still (its odometry) before each check.
+    assert event.endswith('after 3 corrections, still %.3f m off' % (0.5 - robot.x)), event
+    assert 0.008 < abs(robot.x - 0.5) < 0.012
+
+
 def test_in_flight_adds_the_commands_sent_since_the_pose_less_the_link_delay():
     flight = InFlight()
     flight.record(10.0, Command(0.2, 0.0))
