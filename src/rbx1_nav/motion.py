@@ -74,7 +74,8 @@ heading_gain (1/s) turns a drive's heading error into a turn rate.
 # Precise mode's settings, shared by every closed-loop course node.
 PRECISE_PARAMS = (
     param('precise', False, params.flag,
-          doc='slow down near each goal, hold heading, ignore the tolerance'),
+          doc='slow down near each goal, hold heading, ignore the tolerance, '
+              'check each goal on a still robot'),
     param('precise_gain', 1.0, params.number, '/s',
           'approach speed = gain x what remains', **params.POSITIVE),
     param('precise_heading_gain', 4.0, params.number, '/s',

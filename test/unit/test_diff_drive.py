@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from rbx1_nav.diff_drive import (CONFIG_LIMITS, DiffDriveConfig, DiffDriveSim,
-                                 arc_step, covariance_from_diagonal)
+from rbx1_nav.diff_drive import (CONFIG_LIMITS, DiffDriveConfig, DiffDriveFleet,
+                                 DiffDriveSim, arc_step, covariance_from_diagonal)
 from rbx1_nav.transform_utils import Pose2D, quat_to_angle, yaw_to_quaternion
 
 RATE = 50.0
@@ -298,17 +298,20 @@ def test_seed_makes_noise_reproducible():
 
 
 def test_noise_grows_with_distance_not_with_step_rate():
-    """Error spread over 1 m is about the same stepping at 10 Hz or 100 Hz."""
-    noise = dict(encoder_noise=0.01, gyro_noise_density=0.01)
-    spread = {}
+    """Error spread over 1 m is about the same stepping at 10 Hz or 100 Hz
+    (300 robots of one fleet, each with noise of its own)."""
+    noise = DiffDriveConfig(encoder_noise=0.01, gyro_noise_density=0.01, seed=3)
     for rate in (10.0, 100.0):
-        runs = [noisy_run(seed, rate, **noise) for seed in range(300)]
-        spread[rate] = (np.std([r.odom.x - r.truth.x for r in runs]),
-                        np.std([r.gyro_yaw for r in runs]))
-    # Theory: x error sigma = 0.01 * sqrt(1 m) / sqrt(2); yaw sigma = 0.01 * sqrt(2 s).
-    for rate, (x_sd, yaw_sd) in spread.items():
+        fleet = DiffDriveFleet(300, noise)
+        fleet.step(0.0)
+        for k in range(1, int(round(2.0 * rate)) + 1):
+            for robot in range(fleet.size):
+                fleet.command(robot, 0.5, 0.0, (k - 1) / rate)
+            fleet.step(k / rate)
+        # Theory: x error sigma = 0.01 * sqrt(1 m) / sqrt(2); yaw sigma = 0.01 * sqrt(2 s).
+        x_sd = np.std(fleet.odom[:, 0] - fleet.truth[:, 0])
         assert x_sd == pytest.approx(0.01 / math.sqrt(2), rel=0.2), rate
-        assert yaw_sd == pytest.approx(0.01 * math.sqrt(2), rel=0.2), rate
+        assert np.std(fleet.gyro_yaw) == pytest.approx(0.01 * math.sqrt(2), rel=0.2), rate
 
 
 # --- helpers and configuration --------------------------------------------------
