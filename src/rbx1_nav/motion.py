@@ -238,13 +238,14 @@ class _OnOdometry(object):
     ``moving`` (the command at a speed along the goal, negative: back) and
     ``creep`` (precise mode's creep speed). Precise mode checks each goal
     on a still robot: once the stop it sent at the goal has reached the
-    robot and SETTLE s have passed, a goal missed by more than CHECK s of
-    creep is approached again, from whichever side, at most
-    MAX_CORRECTIONS times (a late stop on a slow link, a robot that
-    coasts).
+    robot and SETTLE s have passed since the last motion its odometry
+    showed (LONGEST s at most), a goal missed by more than CHECK s of creep
+    is approached again, from whichever side, at most MAX_CORRECTIONS
+    times (a late stop on a slow link, a robot that coasts).
     """
 
     SETTLE = 0.1  # s
+    LONGEST = 1.0  # s
     CHECK = 0.1  # s of creep
     MAX_CORRECTIONS = 3
 
@@ -267,7 +268,7 @@ class _OnOdometry(object):
                 speed = _clamp(ap.gain * abs(remaining), self.creep(), self.speed)
                 return self.moving(course, pose, self.sense * speed)
             self.stopped = now
-        if not course.settled(self.stopped, self.SETTLE):
+        if not course.settled(self.stopped, self.SETTLE, self.LONGEST):
             return STOP
         if abs(remaining) <= self.creep() * self.CHECK:
             return self._end(course, now)
@@ -575,12 +576,14 @@ class Course(object):
         self.in_flight.record(now, command)
         return command
 
-    def settled(self, sent, settle):
+    def settled(self, sent, settle, longest):
         """True once the pose steered by is stamped ``settle`` s after the
         robot ran the command sent at ``sent`` (s) and after the last motion
-        its measured velocities showed (see :class:`Stalls`)."""
+        its measured velocities showed (see :class:`Stalls`), or ``longest``
+        s after it ran the command (odometry that never reads zero)."""
         ran = sent + self.in_flight.delay
-        return self.stamp >= max(ran, self.stalls.moved or ran) + settle - 1e-9
+        still = max(ran, self.stalls.moved or ran) + settle
+        return self.stamp >= min(still, ran + longest) - 1e-9
 
     def _advance(self, pose, now):
         """:meth:`update` with the pose to steer by."""

@@ -129,6 +129,20 @@ def test_precise_mode_gives_up_after_three_corrections_and_says_how_far_off():
     assert 0.008 < abs(robot.x - 0.5) < 0.012
 
 
+def test_precise_mode_checks_a_second_after_the_stop_when_odometry_never_reads_zero():
+    class Jittery(IdealRobot):
+        def step(self, cmd, dt):
+            linear, angular = IdealRobot.step(self, cmd, dt)
+            return linear + 0.001, angular  # a twist that never reads zero
+
+    robot = Jittery()
+    rows = run(Course([Drive(0.5, 0.2, approach=PRECISE)]), robot)
+    moves = [i for i, (_, _, c) in enumerate(rows) if c != STOP]
+    stops = len(rows) - 1 - moves[-1]  # the check waits, then the end cycle
+    assert stops == pytest.approx(1.0 / DT, abs=1)
+    assert robot.x == pytest.approx(0.5, abs=0.001)
+
+
 def test_in_flight_adds_the_commands_sent_since_the_pose_less_the_link_delay():
     flight = InFlight()
     flight.record(10.0, Command(0.2, 0.0))
