@@ -51,17 +51,19 @@ lint: build
 # Unit tests (pytest, no master), every test/*.test through rostest, and the
 # fault suite. First in two workers, test by test: everything but the
 # rostests whose nodes follow a free-running clock (those under lockstep
-# cannot fall behind, so they share the machine); then those alone, one
-# after another.
+# cannot fall behind, so they share the machine) and the two-host tests;
+# then those rostests one after another, beside the two-host tests (which
+# mostly wait on the wall clock, with a real-time robot).
 # The last line sums both runs.
 REPORTS := $(WS)/test_results
 test: lint
 	@mkdir -p $(REPORTS) && rm -f $(REPORTS)/shared.xml $(REPORTS)/alone.xml
 	@$(ROS) python3 -m pytest test/unit test/integration test/faults -q -p no:cacheprovider \
 	  -n 2 --dist loadgroup --ignore=test/integration/test_rostest_files.py \
-	  --junitxml=$(REPORTS)/shared.xml --durations=5; \
-	python3 -m pytest test/integration/test_rostest_files.py -q -p no:cacheprovider \
-	  --junitxml=$(REPORTS)/alone.xml --durations=5; \
+	  --ignore=test/faults/test_two_hosts.py --junitxml=$(REPORTS)/shared.xml --durations=5; \
+	python3 -m pytest test/integration/test_rostest_files.py test/faults/test_two_hosts.py \
+	  -q -p no:cacheprovider -n 2 --dist loadgroup --junitxml=$(REPORTS)/alone.xml \
+	  --durations=5; \
 	python3 test/summary.py $(REPORTS)/shared.xml $(REPORTS)/alone.xml
 
 unit:

@@ -19,8 +19,11 @@ import pytest
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import link  # noqa: E402
 
-pytestmark = pytest.mark.skipif(link.unavailable() is not None,
-                                reason=str(link.unavailable()))
+# One at a time (they time real-time robots), beside the free-running
+# rostests in make test's second run.
+pytestmark = [pytest.mark.skipif(link.unavailable() is not None,
+                                 reason=str(link.unavailable())),
+              pytest.mark.xdist_group('two_hosts')]
 
 TF_TIMEOUT = 1.0  # s, the course's ~tf_timeout
 CMD_TIMEOUT = 0.5  # s, the fake robot's watchdog (its default)

@@ -8,7 +8,8 @@ The files whose graph runs under lockstep at full speed
 is a lockstep member), cannot fall behind their clock, so they are
 collected by test_rostest_files_lockstep.py, which `make test` runs in
 two workers beside the other pytest suites; the others, whose nodes follow
-a free-running clock, run here, alone, after that.
+a free-running clock, run here after that, one at a time (one xdist
+group), beside nothing but the light two-host tests.
 """
 import glob
 import os
@@ -50,6 +51,7 @@ def run_rostest(test_file):
         os.path.basename(test_file), proc.stdout[-6000:])
 
 
+@pytest.mark.xdist_group('free_running')
 @pytest.mark.parametrize('test_file', TEST_FILES,
                          ids=[os.path.relpath(f, TEST_DIR) for f in TEST_FILES])
 def test_rostest(test_file):
