@@ -414,7 +414,6 @@ class MotionRunner(object):
                                         or reading[1] > last_stamp):
                 pose, last_stamp = reading
                 fresh_at = now
-                self._check_age((now - last_stamp).to_sec(), course.predicts)
             elif not blind and now - fresh_at > timeout:
                 self.stop()
                 raise CourseAborted(
@@ -425,8 +424,10 @@ class MotionRunner(object):
                         (now - fresh_at).to_sec(), timeout.to_sec()))
             if pose is None:  # found a moment ago; lookups may lag a cycle
                 continue
-            self._check_stalls(course)
             age = 0.0 if blind else (now - last_stamp).to_sec()
+            if fresh_at == now:  # a new transform this tick
+                self._check_age(age, course.predicts)
+            self._check_stalls(course)
             self.publish(course.update(pose, now.to_sec(), age))
             for event in course.pop_events():
                 rospy.loginfo(event)
