@@ -1,144 +1,229 @@
-"""Lockstep simulated time: the clock waits for the slowest member.
+"""Lockstep simulated time: one owner grants every step.
 
 Under free-running simulated time a node that falls behind the clock (a
 busy CPU, a high ``sim_speed``) sees the robot move further between its
 control ticks than it planned, so a course's result depends on the
-scheduler. In lockstep, as with Webots' synchronised controllers or
-Gazebo's lockstep, simulated time advances only when everyone taking part
-has handled the step it asked for; then it runs as fast as the machine
-allows (or as ``sim_speed`` caps it), and a course ends in the same pose at
-any speed and under any load.
+scheduler. In lockstep, as in Gazebo's lockstep, Webots' ``robot_step``
+loop or an FMI co-simulation master, one **owner** of simulated time
+(sim_clock) moves it: it tells the members "advance to T" (a *grant*) and
+waits until each has answered "handled T" (a *report*). Then it runs as
+fast as the machine allows (or as ``sim_speed`` caps it), and a course ends
+in the same pose at any speed and under any load.
 
-The protocol has two levels, each a :class:`Gate`:
+The members:
 
-* A **motion node** reports to its **simulator** (topic ``lockstep`` in the
-  robot's namespace) after each control tick: the time it handled, the time
-  of its next tick, and how many ``cmd_vel`` messages it has published since
-  it joined. The simulator steps and publishes its state at every time a
-  member asked for (so the node steers by the pose of that very instant),
-  and lets time go on only once each member has reported and each of its
-  commands has arrived (they travel on another connection, so the count
-  puts the two streams back in order).
-* A **simulator** reports to **sim_clock** (global topic ``/clock_lockstep``,
-  one clock for every robot) after each step it made: the clock publishes a
-  time only when no simulator's next step comes before it.
+* A **simulator** (fake_turtlebot.py, fake_fleet.py, any later one) is
+  granted every step: at T it applies the commands that arrived, steps its
+  model to T and publishes the state at T before it reports.
+* A **motion node** is granted only its own ticks: at T it reads the
+  simulator's state stamped T, publishes its command and reports, with the
+  number of ``cmd_vel`` messages it has sent on each topic so far.
 
-A motion node joins through its simulator's ``lockstep_join`` service,
-which answers right after a step: the node's first tick is that step, and
-the simulator already waits for it. A simulator joins the clock with its
-first report. A member leaves with a report whose next time is 0, or when
-its connection closes (the node died). Times are integer
-nanoseconds; no rospy here, so the rules are unit-tested without a master.
+Each grant carries those command counts, so a simulator granted a step
+first waits until it has received every command that the reports behind
+the grant counted (commands travel on their own connections). ``/clock``
+is published for ordinary nodes (RViz, rosbag, pose_ekf, a user's script);
+no member waits for it. Time jumps from event to event: the next grant is
+the earliest next tick any member asked for, so a 20 Hz course on a 50 Hz
+simulator costs the union of both grids, not a 10 ms walk.
+
+Why nothing can wait forever (the deadlock argument):
+
+1. The owner waits only for the reports of the members it granted. A
+   member's handling of a grant waits only on messages already sent before
+   the grant, or sent by another member handling the same grant without
+   waiting for anyone: the simulator waits for commands counted in reports
+   the owner has already received (sent before those reports); a motion
+   node waits for the simulator's state at T, which the simulator publishes
+   without waiting for any node at T. The wait-for relation within a step
+   is node -> simulator -> earlier messages: it has no cycle.
+2. Members wait only for a grant naming them, never for ``/clock`` or their
+   own reading of it. Grants and reports are idempotent, named by their
+   time: a member that hears nothing for RESEND seconds sends its last
+   report again, and the owner re-sends an unanswered grant. A lost or
+   late message costs a re-send, never a frozen graph.
+3. Every wait has a watchdog in wall time: the owner drops a member whose
+   connection closed at once and a silent one after SILENT (it rejoins
+   with its next report); a simulator goes on without commands lost on
+   the way after LOST_COMMANDS; a motion node stops waiting for state that
+   does not come (the simulator died) and its tf watchdog ends the course.
+
+Joining: a member sends a report without having been granted anything; its
+first grant is the owner's next step, whatever time it asked for (so a new
+owner, started from further back, takes over members of an old one).
+Leaving: a report marked leaving, or the member's connection closing.
+Times are integer nanoseconds; no rospy here, so the rules are unit-tested
+without a master (test/unit/test_lockstep.py).
 """
+import collections
 
-__all__ = ['Gate', 'Member', 'LEAVING']
+__all__ = ['Owner', 'Follower', 'CommandLedger', 'Report', 'RESEND', 'SILENT',
+           'LOST_COMMANDS', 'HANDLE', 'REPEAT', 'BACK', 'STALE']
 
-#: The next tick of a member that is leaving (after its last commands).
-LEAVING = 2 ** 63 - 1
+#: Wall seconds a member waits for a grant, or the owner for a report,
+#: before sending its last message again.
+RESEND = 0.5
+#: Wall seconds a granted member may stay silent before the owner drops
+#: it (it rejoins with its next report).
+SILENT = 3.0
+#: Wall seconds a simulator waits for counted commands before taking them
+#: as lost on the way.
+LOST_COMMANDS = 1.0
+
+#: What a member does with a grant (Follower.grant).
+HANDLE, REPEAT, BACK, STALE = 'handle', 'repeat', 'back', 'stale'
+
+#: A member's report: ``handled`` (ns) the step it answers (None when it
+#: joins), ``next`` (ns) its next tick, ``every_step`` True for a
+#: simulator, ``commands`` a dict {cmd_vel topic: messages sent so far},
+#: ``leaving`` True on its last report.
+Report = collections.namedtuple(
+    'Report', 'name handled next every_step commands leaving')
 
 
-class Member(object):
-    """What a gate knows of one member: its last report and its commands."""
+class _Member(object):
+    __slots__ = ('next', 'every_step', 'granted', 'silent_since')
 
-    __slots__ = ('handled', 'next', 'commands', 'received')
-
-    def __init__(self):
-        self.handled = self.next = None
-        self.commands = 0   # commands it says it has sent since joining
-        self.received = 0   # commands that have arrived from it
-
-    def __repr__(self):
-        return 'Member(handled=%r, next=%r, commands=%r, received=%r)' % (
-            self.handled, self.next, self.commands, self.received)
+    def __init__(self, every_step):
+        self.next = None          # next tick asked for; None: the next step
+        self.every_step = every_step
+        self.granted = None       # the step it owes a report for
+        self.silent_since = None  # when that grant went out (wall s)
 
 
-class Gate(object):
-    """The members of one lockstep level and how far time may go for them."""
+class Owner(object):
+    """The owner's side: who takes part, when the next step is, who owes a
+    report. ``start`` (ns) is the time already published; ``step`` (ns) the
+    step taken when no member asks for a time. ``wall`` times are passed
+    in, so the watchdogs are testable without sleeping."""
 
-    def __init__(self):
-        self.members = {}  # name -> Member
+    def __init__(self, start=0, step=10000000):
+        self.now = start
+        self.step = step
+        self.members = {}   # name -> _Member
+        self.commands = {}  # (topic, sender) -> cmd_vel messages it sent
 
-    def report(self, name, handled, next_time, commands=0):
-        """Take a member's report; return 'joined', 'left' or None.
-
-        ``next_time`` 0 (or None) means the member leaves; it still holds
-        time until the commands it reported have arrived.
-        """
-        member = self.members.get(name)
+    def report(self, report):
+        """Take a report; return (change, warning): change is 'joined',
+        'left' or None, warning a sentence or None."""
+        for topic, count in report.commands.items():
+            self.commands[(topic, report.name)] = count
+        member = self.members.get(report.name)
+        if report.leaving:
+            return ('left' if self.members.pop(report.name, None) else None), None
         if member is None:
-            if not next_time:
-                return None
-            member = self.members[name] = Member()
-            change = 'joined'
-        else:
-            change = None if next_time else 'left'
-        member.handled, member.commands = handled, commands
-        member.next = next_time or LEAVING
-        self._sweep()
-        return change
+            self.members[report.name] = _Member(report.every_step)
+            return 'joined', None
+        if member.granted is None or report.handled != member.granted:
+            return None, None  # a report sent again, or one overtaken
+        member.granted = member.silent_since = None
+        if report.next <= report.handled:
+            member.next = None
+            return None, ('%s asked for its next tick at %.9f s, not after the '
+                          'step it handled (%.9f s): refused; granted the next '
+                          'step instead' % (report.name, report.next * 1e-9,
+                                            report.handled * 1e-9))
+        member.next = report.next
+        return None, None
 
-    def admit(self, name, time):
-        """Make ``name`` a member that must handle ``time`` first (its join,
-        granted at a step the simulator just published); True if new."""
-        joined = name not in self.members
-        member = self.members[name] = Member()
-        member.next = time
-        return joined
+    def next_grant(self):
+        """(time, names) of the next step and the members it is granted
+        to, or None without members. Call once no report is owed."""
+        if not self.members:
+            return None
+        asked = [m.next for m in self.members.values() if m.next is not None]
+        time = min(asked) if asked else self.now + self.step
+        time = max(time, self.now + 1)
+        names = sorted(name for name, m in self.members.items()
+                       if m.every_step or m.next is None or m.next <= time)
+        return time, names
 
-    def command_from(self, name):
-        """Count a cmd_vel message that arrived from ``name``.
+    def grant(self, time, names, wall):
+        """The step ``time`` goes out to ``names`` at wall time ``wall``;
+        return the names still members (one may have left meanwhile)."""
+        if time <= self.now:
+            raise ValueError('step %d ns is not after %d ns' % (time, self.now))
+        self.now = time
+        names = [name for name in names if name in self.members]
+        for name in names:
+            member = self.members[name]
+            member.granted, member.silent_since = time, wall
+        return names
 
-        Messages from non-members (teleop, a test) do not gate anything.
-        """
-        member = self.members.get(name)
-        if member is not None:
-            member.received += 1
-            self._sweep()
-
-    def missing_commands(self, time):
-        """Names of the members that hold ``time`` back only for commands
-        that have not arrived."""
+    def owing(self):
+        """Names of the members that owe a report for the step granted."""
         return sorted(name for name, m in self.members.items()
-                      if time <= m.next and m.received < m.commands)
+                      if m.granted is not None)
 
-    def forgive(self, name):
-        """Stop waiting for ``name``'s missing commands (lost on the way)."""
-        member = self.members[name]
-        member.received = member.commands
-        self._sweep()
+    def silent(self, wall, limit=SILENT):
+        """Names of the members that have owed a report for over ``limit``
+        wall seconds."""
+        return sorted(name for name, m in self.members.items()
+                      if m.granted is not None and wall - m.silent_since > limit)
 
-    def _sweep(self):
-        """Forget members that left once their last commands arrived."""
-        for name in [name for name, m in self.members.items()
-                     if m.next == LEAVING and m.received >= m.commands]:
-            del self.members[name]
-
-    def leave(self, name):
-        """Forget ``name`` (it left or its connection closed); True if known."""
+    def drop(self, name):
+        """Forget ``name`` (dead or silent); True if it was a member."""
         return self.members.pop(name, None) is not None
 
-    def keep_only(self, names):
-        """Drop every member not in ``names``; return the names dropped."""
-        gone = sorted(set(self.members) - set(names))
-        for name in gone:
-            del self.members[name]
-        return gone
+    def command_counts(self):
+        """[(topic, sender, count)] of every member's reported commands."""
+        return [(topic, sender, count)
+                for (topic, sender), count in sorted(self.commands.items())]
 
-    def blocking(self, time):
-        """Names of the members that keep simulated time from reaching ``time``.
 
-        A member blocks while ``time`` is past its next tick (it must handle
-        that tick and report first), or while commands it reported sending
-        have not all arrived.
-        """
-        return sorted(name for name, m in self.members.items()
-                      if time > m.next or m.received < m.commands)
+class Follower(object):
+    """A member's side: what to do with each grant.
 
-    def allows(self, time):
-        """True when simulated time may reach ``time``."""
-        return not self.blocking(time)
+    Grants come from one owner at a time, named by its ``session``; within
+    a session time only goes forward.
+    """
 
-    def next_tick(self):
-        """The earliest next tick of any member, or None if none has one."""
-        return min((m.next for m in self.members.values() if m.next != LEAVING),
-                   default=None)
+    def __init__(self):
+        self.session = None
+        self.handled = None  # the last step handled (ns)
+
+    def grant(self, session, time):
+        """HANDLE a new step, REPEAT the report for one already handled (a
+        grant sent again), BACK: a new owner starts before the last step
+        handled (time moved back; the member starts again or gives up),
+        STALE: an older grant of the same owner (refused)."""
+        if session != self.session:
+            self.session = session
+            if self.handled is not None and time < self.handled:
+                return BACK
+            return HANDLE
+        if self.handled is None or time > self.handled:
+            return HANDLE
+        return REPEAT if time == self.handled else STALE
+
+    def handled_step(self, time):
+        self.handled = time
+
+
+class CommandLedger(object):
+    """A simulator's count of the commands it received, per cmd_vel topic
+    and sender, against the counts the motion nodes reported."""
+
+    def __init__(self, topics):
+        self.topics = set(topics)
+        self.received = collections.Counter()  # (topic, sender) -> messages
+        self.lost = collections.Counter()      # given up as lost on the way
+
+    def arrived(self, topic, sender):
+        self.received[(topic, sender)] += 1
+
+    def missing(self, counts):
+        """[(topic, sender, how many)] of the commands reported in ``counts``
+        ((topic, sender, count) triples) that have not arrived; other
+        simulators' topics are not this one's business."""
+        return [(topic, sender, count - have)
+                for topic, sender, count in counts if topic in self.topics
+                for have in [self.received[(topic, sender)] + self.lost[(topic, sender)]]
+                if have < count]
+
+    def give_up(self, counts):
+        """Take the missing commands of ``counts`` as lost; return them."""
+        missing = self.missing(counts)
+        for topic, sender, short in missing:
+            self.lost[(topic, sender)] += short
+        return missing

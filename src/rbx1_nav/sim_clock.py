@@ -1,12 +1,12 @@
 """Pacing of a simulation clock against the wall clock (used by nodes/sim_clock.py).
 
 The clock advances simulated time in fixed steps of whole nanoseconds, so
-stamps are exact multiples of the step, and schedules each step at
-``speed`` times real time. When the publisher falls behind (a starved CPU),
-it re-anchors instead of bursting to catch up: simulated time then runs
-slower than asked, but never in steps larger than ``step``.
-``speed`` None runs unpaced: as fast as whatever waits on the clock (the
-lockstep members) allows. The wall time is passed in, so the pacing is
+stamps are exact multiples of the step, or straight to a time the lockstep
+owner grants next (rbx1_nav.lockstep: event-driven time), and schedules
+each at ``speed`` times real time. When the publisher falls behind (a
+starved CPU), it re-anchors instead of bursting to catch up: simulated
+time then runs slower than asked. ``speed`` None runs unpaced: as fast as
+the lockstep members allow. The wall time is passed in, so the pacing is
 testable without sleeping.
 """
 import math
@@ -61,17 +61,18 @@ class ClockPacer:
             self.speed = speed
             self._anchor = None
 
-    def advance(self, wall_now, limit=None):
-        """Move one step on, or only to ``limit`` (ns) if that comes first
-        (a lockstep member's tick); return (sim time in ns, wall seconds to
-        wait). The caller waits the returned time, then publishes the sim
-        time.
+    def advance(self, wall_now, target=None):
+        """Move one step on, or to ``target`` (ns, later than now: the step
+        the lockstep owner grants next); return (sim time in ns, wall
+        seconds to wait). The caller waits the returned time, then
+        publishes the sim time.
         """
         if self._anchor is None:
             self._anchor = (wall_now, self.sim_ns)
-        self.sim_ns += self.step_ns
-        if limit is not None and self.sim_ns - self.step_ns < limit < self.sim_ns:
-            self.sim_ns = limit
+        if target is not None and target <= self.sim_ns:
+            raise ValueError('clock target %d ns is not after %d ns'
+                             % (target, self.sim_ns))
+        self.sim_ns = self.sim_ns + self.step_ns if target is None else target
         if self.speed is None:
             return self.sim_ns, 0.0
         wall0, sim0 = self._anchor

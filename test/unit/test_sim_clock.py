@@ -81,8 +81,17 @@ def test_bad_speed_parameter_names_max(value):
         sim_clock.speed("~speed", value)
 
 
-def test_a_member_tick_between_steps_is_published_on_its_own():
-    pacer = ClockPacer(None, step=0.01)
-    assert pacer.advance(0.0, limit=3_333_333)[0] == 3_333_333
-    assert pacer.advance(0.0, limit=50_000_000)[0] == 13_333_333
-    assert pacer.advance(0.0)[0] == 23_333_333
+def test_a_granted_step_is_reached_in_one_jump():
+    pacer = ClockPacer(1.0, step=0.01)
+    assert pacer.advance(0.0, target=3_333_333) == (3_333_333, pytest.approx(0.003333333))
+    # Event-driven: 50 ms on in one go, paced at real time.
+    sim_ns, wait = pacer.advance(0.003333333, target=53_333_333)
+    assert sim_ns == 53_333_333 and wait == pytest.approx(0.05)
+    assert pacer.advance(0.053333333)[0] == 63_333_333
+
+
+def test_a_target_in_the_past_is_refused():
+    pacer = ClockPacer(None, step=0.01, start=1.0)
+    with pytest.raises(ValueError, match='not after'):
+        pacer.advance(0.0, target=1_000_000_000)
+    assert pacer.sim_ns == 1_000_000_000

@@ -128,22 +128,23 @@ class RobotTopics:
         world.child_frame_id = self.odom_frame
         world.transform.rotation.w = 1.0
         self.static_tf.publish(TFMessage([world]))
-        # Under lockstep, this robot's motion nodes report on its lockstep
-        # topic (rbx1_nav.lockstep) and every command counts, so none may
-        # be dropped.
-        self.keeper = (lockstep.Keeper(log_name, topic(lockstep.NODE_TOPIC),
-                                       topic(lockstep.JOIN_SERVICE))
-                       if lockstep.enabled() else None)
+        # Under lockstep (spin_simulator): the simulator's membership, which
+        # counts every command, and the step being handled, the time of
+        # every command that arrives until the next (None: ROS time).
+        self.member = None
+        self.step_time = None
         self.cmd_sub = rospy.Subscriber(topic('cmd_vel'), Twist, self.on_cmd_vel,
                                         queue_size=100, tcp_nodelay=True)
 
     def on_cmd_vel(self, msg):
         """Queue a command; warn (throttled) about rejected or clamped ones."""
-        now = rospy.Time.now().to_sec()
+        now = self.step_time
+        if now is None:
+            now = rospy.Time.now().to_sec()
         with self.lock:
             problem = self.robot.command(msg.linear.x, msg.angular.z, now)
-        if self.keeper is not None:
-            self.keeper.command_from(msg)
+        if self.member is not None:
+            self.member.command_from(self.cmd_sub.resolved_name, msg)
         if problem is None or not self.throttle.ready(problem, now):
             return
         if problem == 'non-finite':
@@ -246,12 +247,11 @@ class RobotTopics:
 
 def spin_simulator(rate, step, robots, log_name):
     """Call ``step(stamp)`` on a fixed grid of ROS times, every 1/``rate``
-    s, until shutdown: under lockstep as a member of sim_clock's gate,
-    waiting for the motion nodes of ``robots`` (RobotTopics), otherwise on
-    whatever ROS time does."""
-    keepers = [robot.keeper for robot in robots if robot.keeper is not None]
-    if keepers:
-        spin_lockstep(rate, step, keepers, log_name)
+    s, until shutdown: under lockstep as a simulator member (every step
+    granted to it, its robots' commands counted), otherwise on whatever ROS
+    time does. ``robots`` are the RobotTopics it steps."""
+    if lockstep.enabled():
+        spin_lockstep(rate, step, robots, log_name)
     else:
         spin_on_ros_time(rate, step, log_name)
 
@@ -294,37 +294,52 @@ def spin_on_ros_time(rate, step, log_name):
             break
 
 
-def spin_lockstep(rate, step, keepers, log_name):
-    """:func:`spin_on_ros_time` as a lockstep member (rbx1_nav.lockstep).
+#: Wall seconds a simulator under lockstep waits for a grant before it
+#: says that nothing grants steps.
+NO_OWNER_WARNING = 5.0
 
-    Steps fall on the 1/``rate`` grid and at every tick a motion node asked
-    ``keepers`` for. Each step is published before the nodes handle it, so
-    a node steers by the pose of its very tick; then the simulator waits
-    for them (their reports and commands) and tells sim_clock how far time
-    may go: to its next grid step or the next node tick.
+
+def spin_lockstep(rate, step, robots, log_name):
+    """:func:`spin_on_ros_time` as a lockstep simulator (rbx1_nav.lockstep).
+
+    sim_clock grants it every step: the 1/``rate`` grid it asks for and
+    every tick a motion node asks for. At each it waits for the commands
+    the nodes reported sending, steps to that time and publishes the state
+    there (so a node steers by the pose of its very tick), then reports.
+    A grant from before the last step (a new clock, from further back)
+    starts the model again from there.
     """
     period = int(round(1e9 / rate))
-    reporter = lockstep.Reporter(lockstep.CLOCK_TOPIC)
-    rospy.on_shutdown(lambda: reporter.leave(lockstep.to_ns(rospy.Time.now())))
-    while not rospy.is_shutdown() and rospy.Time.now().is_zero():
-        rospy.rostime.wallsleep(0.01)
-    now = grid = lockstep.to_ns(rospy.Time.now())
+    member = lockstep.Member(every_step=True,
+                             cmd_topics=[r.cmd_sub.resolved_name for r in robots])
+    for robot in robots:
+        robot.member = member
+    rospy.on_shutdown(member.leave)
+    no_owner = ('%s: /lockstep is true but no step granted on %s for %.0f s: '
+                'start sim_clock (roslaunch rbx1_nav sim_clock.launch), or set '
+                '/lockstep false' % (log_name, lockstep.GRANT_TOPIC, NO_OWNER_WARNING))
     while not rospy.is_shutdown():
-        if now >= grid:
-            grid = now + period
-        step(lockstep.from_ns(now))
-        for keeper in keepers:
-            keeper.admit(now)
-        if not all(keeper.wait_allows(now + 1) for keeper in keepers):
-            return
-        ticks = [t for t in (keeper.next_tick() for keeper in keepers) if t is not None]
-        target = min([grid] + ticks)
-        reporter.report(now, target)
         try:
-            lockstep.sleep_until(target, since=now)
-        except rospy.ROSTimeMovedBackwardsException as err:
-            _time_moved_back(log_name, err)
-            grid = 0
-        except rospy.ROSInterruptException:
-            return
-        now = lockstep.to_ns(rospy.Time.now())
+            member.join(NO_OWNER_WARNING)
+            break
+        except lockstep.JoinError:
+            rospy.logwarn(no_owner)
+    grid = None
+    while not rospy.is_shutdown():
+        granted = member.wait_grant(NO_OWNER_WARNING)
+        if granted is None:
+            if not rospy.is_shutdown():
+                rospy.logwarn(no_owner)
+            continue
+        action, now, grant = granted
+        if action == lockstep.BACK:
+            _time_moved_back(log_name, rospy.ROSTimeMovedBackwardsException(
+                (member.follower.handled - now) * 1e-9))
+            grid = None
+        member.wait_commands(grant)
+        for robot in robots:
+            robot.step_time = now * 1e-9
+        step(lockstep.from_ns(now))
+        if grid is None or now >= grid:
+            grid = now + period
+        member.report(now, grid)

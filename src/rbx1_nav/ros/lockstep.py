@@ -3,40 +3,36 @@
 Lockstep is on when both ``/use_sim_time`` and ``/lockstep`` are true
 (sim_clock.launch sets them); on a real robot nothing here runs.
 
-:class:`Keeper` is a gate's owner (sim_clock, a simulator): it takes the
-members' reports and waits until simulated time may move on.
-:class:`Reporter` is a member (a simulator, a motion node): it joins,
-reports each step it handled, and leaves.
+:class:`TimeOwner` is sim_clock's part: it takes the members' reports on
+REPORT_TOPIC, grants each step on GRANT_TOPIC and publishes ``/clock``.
+:class:`Member` is a simulator's or a motion node's part: it joins, waits
+for each grant naming it, reports the step handled, and leaves.
 """
+import random
 import threading
 import time
 import warnings
 
 import rospy
-from std_srvs.srv import Trigger, TriggerResponse
+from rosgraph_msgs.msg import Clock
 
-from rbx1_nav.lockstep import Gate
-from rbx1_nav.msg import Lockstep
+from rbx1_nav import lockstep
+from rbx1_nav.lockstep import (BACK, HANDLE, LOST_COMMANDS, REPEAT, RESEND,
+                               SILENT, STALE, CommandLedger, Follower, Owner,
+                               Report)
+from rbx1_nav.msg import LockstepGrant, LockstepReport
 
-#: Relative topic on which motion nodes report to their simulator.
-NODE_TOPIC = 'lockstep'
-#: Relative service (std_srvs/Trigger) through which a motion node joins
-#: its simulator's lockstep; the answer's message is the first tick (ns).
-JOIN_SERVICE = 'lockstep_join'
-#: Wall seconds a join may wait for the simulator's next step.
-JOIN_LIMIT = 10.0
-#: Global topic on which simulators report to sim_clock (one clock serves
-#: every namespace, like /clock itself).
-CLOCK_TOPIC = '/clock_lockstep'
-#: Wall seconds a keeper waits for a member before saying who it waits for.
+#: Global topics, like /clock: one owner of simulated time per master.
+GRANT_TOPIC = '/lockstep_grant'
+REPORT_TOPIC = '/lockstep_report'
+#: Wall seconds between the owner's lines naming the members it waits for.
 SLOW_MEMBER = 1.0
-#: Wall seconds after which commands a member reported are taken as lost
-#: (a connection that dropped them), so time does not stop for good.
-LOST_COMMANDS = 1.0
-#: Wall seconds a member may hold time without a report before it is
-#: dropped (it rejoins with its next report): a stuck member must not stop
-#: every node's clock for good.
-SILENT_MEMBER = 3.0
+#: Wall seconds a motion node waits for its next grant before it takes the
+#: clock as gone (more than SILENT: a member stuck elsewhere is dropped by
+#: the owner first).
+GRANT_LIMIT = SILENT + 1.0
+#: Wall seconds a motion node waits for its simulator's state at a tick.
+STATE_LIMIT = 1.0
 
 
 def enabled():
@@ -55,225 +51,264 @@ def from_ns(ns):
     return rospy.Time(*divmod(int(ns), 1000000000))
 
 
-def sleep_until(time_ns, since):
-    """Sleep until ROS time reaches ``time_ns``; ``since`` (ns) is the time
-    the caller last handled. Raises ROSTimeMovedBackwardsException if ROS
-    time is already back before ``since`` (a new clock, from further back),
-    as rospy.sleep does when time moves back during the sleep."""
-    now = to_ns(rospy.Time.now())
-    if now < since:
-        raise rospy.ROSTimeMovedBackwardsException((since - now) * 1e-9)
-    rospy.sleep(from_ns(time_ns) - from_ns(now))
-
-
 def sender(msg):
     """The node name that published ``msg`` (rospy keeps it per message)."""
     return msg._connection_header['callerid']
 
 
-def synchronous_publisher(topic, msg_class):
+def synchronous_publisher(topic, msg_class, **kwargs):
     """A publisher that writes each message before publish() returns, with
     no Nagle delay: lockstep waits for every message, so a hand-off to
     rospy's queue thread would only add latency to each step."""
     with warnings.catch_warnings():  # queue_size None is the point here
         warnings.simplefilter('ignore', SyntaxWarning)
         return rospy.Publisher(topic, msg_class, queue_size=None,
-                               tcp_nodelay=True)
+                               tcp_nodelay=True, **kwargs)
 
 
-class Keeper(object):
-    """Owner of a lockstep gate: members report to it on ``topic``; with
-    ``join_service``, motion nodes join through that service."""
+def publish(pub, msg):
+    """Publish; False once rospy has closed its topics (shutting down)."""
+    try:
+        pub.publish(msg)
+        return True
+    except rospy.ROSException:
+        if not rospy.core.is_shutdown_requested():
+            raise
+        return False
 
-    def __init__(self, owner, topic, join_service=None):
-        self.owner = owner  # for log lines
-        self.gate = Gate()
+
+class TimeOwner(object):
+    """sim_clock's side of lockstep: the one owner of simulated time.
+
+    ``start`` and ``step`` (ns): the time already reached and the step
+    taken when no member asks for a time.
+    """
+
+    def __init__(self, start, step, name='sim_clock'):
+        self.name = name
+        self.owner = Owner(start, step)
+        self.session = random.getrandbits(63) or 1
         self.cond = threading.Condition()
-        self.pending, self.admitted = [], {}  # joins: waiting, granted (ns)
-        self.seen = set()  # members whose report connection was seen
-        self.sub = rospy.Subscriber(topic, Lockstep, self._on_report,
+        self.seen = set()  # members whose report connection was listed
+        self.clock_pub = synchronous_publisher('/clock', Clock)
+        self.grant_pub = synchronous_publisher(GRANT_TOPIC, LockstepGrant)
+        self.sub = rospy.Subscriber(REPORT_TOPIC, LockstepReport, self._on_report,
                                     queue_size=None, tcp_nodelay=True)
-        if join_service:
-            rospy.Service(join_service, Trigger, self._on_join)
-
-    def _on_join(self, request):
-        """A node asks to join: answer after the next step, its first tick."""
-        name = sender(request)
-        with self.cond:
-            self.admitted.pop(name, None)
-            self.pending.append(name)
-            self.cond.wait_for(lambda: name in self.admitted or rospy.is_shutdown(),
-                               JOIN_LIMIT)
-            tick = self.admitted.pop(name, None)
-        if tick is None:
-            return TriggerResponse(False, '%s did not step within %g s'
-                                   % (self.owner, JOIN_LIMIT))
-        rospy.loginfo('%s: %s joined lockstep', self.owner, name)
-        return TriggerResponse(True, str(tick))
-
-    def admit(self, time_ns):
-        """Right after a step at ``time_ns``: grant the waiting joins."""
-        with self.cond:
-            for name in self.pending:
-                self.gate.admit(name, time_ns)
-                self.admitted[name] = time_ns
-            self.pending = []
-            self.cond.notify_all()
 
     def _on_report(self, msg):
         name = sender(msg)
+        report = Report(name, to_ns(msg.handled), to_ns(msg.next), msg.every_step,
+                        dict(zip(msg.cmd_topics, msg.cmd_counts)), msg.leaving)
         with self.cond:
-            change = self.gate.report(name, to_ns(msg.handled), to_ns(msg.next),
-                                      msg.commands)
+            change, warning = self.owner.report(report)
             self.cond.notify_all()
         if change:
-            rospy.loginfo('%s: %s %s lockstep', self.owner, name, change)
+            rospy.loginfo('%s: %s %s lockstep%s', self.name, name, change,
+                          ' (simulator)' if msg.every_step and change == 'joined' else '')
+        if warning:
+            rospy.logwarn('%s: %s', self.name, warning)
 
-    def command_from(self, msg):
-        """Count a cmd_vel message (call from the cmd_vel callback)."""
+    def next_grant(self):
+        """(time ns, member names) of the next step; None without members."""
         with self.cond:
-            self.gate.command_from(sender(msg))
-            self.cond.notify_all()
+            return self.owner.next_grant()
 
-    def next_tick(self):
-        """Earliest next tick of a member (ns), or None without members."""
-        with self.cond:
-            return self.gate.next_tick()
+    def publish_clock(self, time_ns):
+        """/clock at ``time_ns``; False once shutting down."""
+        return publish(self.clock_pub, Clock(clock=from_ns(time_ns)))
+
+    def _send(self, time_ns, names):
+        counts = self.owner.command_counts()
+        return publish(self.grant_pub, LockstepGrant(
+            session=self.session, time=from_ns(time_ns), members=names,
+            cmd_topics=[c[0] for c in counts], cmd_senders=[c[1] for c in counts],
+            cmd_counts=[c[2] for c in counts]))
 
     def has_members(self):
         with self.cond:
-            return bool(self.gate.members)
+            return bool(self.owner.members)
+
+    def grant(self, time_ns, names):
+        """Grant the step ``time_ns`` to ``names`` (none: time just moves
+        on) and wait (wall time) until
+        each has reported it, re-sending it to the silent ones every RESEND
+        s and dropping members that died or stay silent for SILENT s.
+        False once the node shuts down."""
+        with self.cond:
+            started = time.monotonic()
+            names = self.owner.grant(time_ns, names, started)
+            if not names:
+                return True
+            if not self._send(time_ns, names):
+                return False
+            resend_at, warn_at = started + RESEND, started + SLOW_MEMBER
+            while self.owner.owing():
+                if rospy.is_shutdown():
+                    return False
+                self.cond.wait(0.05)
+                now = time.monotonic()
+                self._drop_disconnected()
+                for name in self.owner.silent(now):
+                    self.owner.drop(name)
+                    rospy.logwarn('%s: %s has not handled the step at %.3f s for '
+                                  '%.0f s; going on without it until it reports '
+                                  'again', self.name, name, time_ns * 1e-9, SILENT)
+                owing = self.owner.owing()
+                if owing and now > resend_at:
+                    resend_at = now + RESEND
+                    self._send(time_ns, owing)
+                if owing and now > warn_at:
+                    warn_at = now + SLOW_MEMBER
+                    rospy.logwarn('%s: simulated time waits at %.3f s for %s',
+                                  self.name, time_ns * 1e-9, ', '.join(owing))
+        return True
 
     def _drop_disconnected(self):
-        """Members whose connection closed (the node died) leave the gate."""
+        """Members whose report connection closed (the node died) leave."""
         connected = {c.callerid_pub for c in self.sub.impl.connections}
-        self.seen |= connected & set(self.gate.members)
+        members = set(self.owner.members)
+        self.seen |= connected & members
         # A member that just joined may not have its connection listed yet.
-        for name in self.gate.keep_only(connected | (set(self.gate.members) - self.seen)):
+        for name in sorted((members & self.seen) - connected):
             self.seen.discard(name)
+            self.owner.drop(name)
             rospy.logwarn('%s: %s left lockstep without a word (node gone)',
-                          self.owner, name)
-
-    def wait_allows(self, time_ns):
-        """Wait (wall time) until simulated time may reach ``time_ns``.
-
-        Returns False if the node shuts down first. Every SLOW_MEMBER wall
-        seconds of waiting it logs who it waits for.
-        """
-        started = time.monotonic()
-        warn_at = started + SLOW_MEMBER
-        with self.cond:
-            while not rospy.is_shutdown():
-                if self.gate.allows(time_ns):
-                    return True
-                self.cond.wait(0.05)
-                if self.gate.blocking(time_ns):
-                    self._drop_disconnected()
-                if time.monotonic() - started > LOST_COMMANDS:
-                    for name in self.gate.missing_commands(time_ns):
-                        rospy.logwarn('%s: cmd_vel messages from %s lost on the '
-                                      'way (%r); going on without them',
-                                      self.owner, name, self.gate.members[name])
-                        self.gate.forgive(name)
-                if time.monotonic() - started > SILENT_MEMBER:
-                    for name in self.gate.blocking(time_ns):
-                        rospy.logwarn('%s: %s has held simulated time at %.3f s for '
-                                      '%.0f s without a report; going on without it '
-                                      'until it reports again', self.owner, name,
-                                      time_ns * 1e-9, SILENT_MEMBER)
-                        self.gate.leave(name)
-                if time.monotonic() > warn_at:
-                    warn_at += SLOW_MEMBER
-                    rospy.logwarn('%s: simulated time waits at %.3f s for %s',
-                                  self.owner, time_ns * 1e-9, ', '.join(
-                                      '%s (%r)' % (name, self.gate.members[name])
-                                      for name in self.gate.blocking(time_ns)))
-        return False
+                          self.name, name)
 
 
 class JoinError(Exception):
     """A node could not join the lockstep; the message says why."""
 
 
-class Reporter(object):
-    """A lockstep member: reports the steps it handled on ``topic``."""
+class Member(object):
+    """A lockstep member: a simulator (``every_step``) or a motion node.
 
-    def __init__(self, topic):
-        self.pub = synchronous_publisher(topic, Lockstep)
-        self.commands = 0  # cmd_vel messages since joining (motion nodes)
-        self.joined = False
-        self.left = False  # after leave(), until join(): no more reports
+    A simulator passes the resolved names of its cmd_vel topics in
+    ``cmd_topics`` and counts each command that arrives with
+    :meth:`command_from`; a motion node counts each one it sends with
+    :meth:`sent`.
+    """
 
-    def listeners(self):
-        """Node names of the gate's owners that take these reports."""
-        return {c.endpoint_id for c in self.pub.impl.connections}
+    def __init__(self, every_step=False, cmd_topics=()):
+        self.name = rospy.get_name()
+        self.every_step = every_step
+        self.follower = Follower()
+        self.ledger = CommandLedger(cmd_topics)
+        self.sent_counts = {}  # topic -> cmd_vel messages sent (motion node)
+        self.cond = threading.Condition()
+        self.grant = None       # the newest grant naming this node
+        self.members = set()    # the names in the newest grant seen
+        self.joined = self.left = False
+        self.last = None        # the last report, to send again
+        self.pub = synchronous_publisher(REPORT_TOPIC, LockstepReport)
+        self.sub = rospy.Subscriber(GRANT_TOPIC, LockstepGrant, self._on_grant,
+                                    queue_size=None, tcp_nodelay=True)
+
+    def _on_grant(self, msg):
+        with self.cond:
+            self.members = set(msg.members)
+            if self.name in self.members:
+                self.grant = msg
+                self.cond.notify_all()
+
+    def simulators(self):
+        """Names in the newest grant (every simulator is in each)."""
+        with self.cond:
+            return set(self.members)
 
     def connected(self):
-        """True once the gate's owner listens (a report would arrive)."""
-        return bool(self.listeners())
+        """True once the owner takes this node's reports and sends it grants."""
+        return bool(self.pub.get_num_connections() and self.sub.get_num_connections())
 
     def join(self, wait):
-        """Join the simulator's lockstep through JOIN_SERVICE, waiting up to
-        ``wait`` wall seconds for it; the first tick (ns): a step the
-        simulator has just published and for which it waits. Commands
-        count from here. Raises JoinError saying why it could not."""
-        join = rospy.ServiceProxy(JOIN_SERVICE, Trigger)
+        """Join the owner's lockstep, waiting up to ``wait`` wall seconds
+        for it to be there; the first grant follows. Raises JoinError."""
         deadline = time.monotonic() + wait
-        while not self.connected():  # a report sent before is lost
+        while not self.connected():  # a report sent before would be lost
             if time.monotonic() > deadline or rospy.is_shutdown():
-                raise JoinError('nothing takes lockstep reports on %s after '
-                                '%.1f s' % (self.pub.resolved_name, wait))
+                raise JoinError('nothing grants lockstep steps on %s after %.1f s: '
+                                'is sim_clock running (sim_clock.launch)?'
+                                % (GRANT_TOPIC, wait))
             rospy.rostime.wallsleep(0.01)
-        try:
-            join.wait_for_service(max(0.1, deadline - time.monotonic()))
-            self.commands = 0
-            self.joined, self.left = True, False
-            answer = join()
-        except (rospy.ROSException, rospy.ServiceException) as err:
-            raise JoinError('the simulator\'s %s service does not answer (%s)'
-                            % (join.resolved_name, err))
-        if not answer.success:
-            raise JoinError(answer.message)
-        tick = int(answer.message)
-        # This node's /clock may lag the simulator's by a message: its time
-        # must reach the tick before it handles it (or it would look like
-        # time moving back).
-        while to_ns(rospy.Time.now()) < tick and not rospy.is_shutdown():
-            if time.monotonic() > deadline + JOIN_LIMIT:
-                raise JoinError('this node\'s clock did not reach the first tick')
-            rospy.rostime.wallsleep(0.0005)
-        return tick
+        with self.cond:
+            self.grant = None
+        self.joined, self.left = True, False
+        self.report(self.follower.handled or 0, 0)
 
-    def ticks(self, rate, wait):
-        """Join, then yield each tick (ns) at ``rate`` Hz; after each, report
-        it handled and sleep to the next."""
-        period = int(round(1e9 / rate))
-        tick = self.join(wait)
+    def wait_grant(self, limit=None):
+        """Wait for the next step granted to this node; return (action,
+        time ns, grant): action HANDLE or BACK (rbx1_nav.lockstep.Follower).
+        Sends the last report again every RESEND wall seconds without a
+        grant. None after ``limit`` wall seconds without one, or at shutdown.
+        """
+        started = time.monotonic()
         while not rospy.is_shutdown():
-            yield tick
-            self.report(tick, tick + period)
-            sleep_until(tick + period, since=tick)
-            tick += period
+            with self.cond:
+                self.cond.wait_for(lambda: self.grant is not None, RESEND)
+                grant, self.grant = self.grant, None
+            if grant is None:
+                if limit is not None and time.monotonic() - started > limit:
+                    return None
+                publish(self.pub, self.last)
+                continue
+            time_ns = to_ns(grant.time)
+            action = self.follower.grant(grant.session, time_ns)
+            if action == REPEAT:
+                publish(self.pub, self.last)
+            elif action == STALE:
+                rospy.logwarn('%s: lockstep grant at %.3f s is before the step '
+                              'already handled (%.3f s): refused', self.name,
+                              time_ns * 1e-9, self.follower.handled * 1e-9)
+            else:
+                return action, time_ns, grant
+        return None
 
-    def report(self, handled_ns, next_ns):
-        """Handled ``handled_ns``; time must not pass ``next_ns`` before the
-        next report. A simulator's first report joins the clock; after
-        leave() (a shutdown hook, from another thread) none goes out, so a
-        node on its way out cannot join again."""
+    def wait_commands(self, grant):
+        """A simulator, before stepping: wait (wall time) until every command
+        counted in ``grant`` has arrived; after LOST_COMMANDS s take the rest
+        as lost, with a warning."""
+        counts = list(zip(grant.cmd_topics, grant.cmd_senders, grant.cmd_counts))
+        deadline = time.monotonic() + LOST_COMMANDS
+        with self.cond:
+            while self.ledger.missing(counts):
+                if time.monotonic() > deadline:
+                    for topic, name, short in self.ledger.give_up(counts):
+                        rospy.logwarn('%s: %d cmd_vel message(s) from %s on %s lost '
+                                      'on the way; going on without them',
+                                      self.name, short, name, topic)
+                elif rospy.is_shutdown():
+                    return
+                else:
+                    self.cond.wait(0.05)
+
+    def command_from(self, topic, msg):
+        """A simulator: count a command that arrived on ``topic``."""
+        with self.cond:
+            self.ledger.arrived(topic, sender(msg))
+            self.cond.notify_all()
+
+    def sent(self, topic):
+        """A motion node: count a command it published on ``topic``."""
+        self.sent_counts[topic] = self.sent_counts.get(topic, 0) + 1
+
+    def report(self, handled_ns, next_ns, leaving=False):
+        """Handled ``handled_ns``; ``next_ns`` its next tick. After leave()
+        (a shutdown hook, from another thread) none goes out, so a node on
+        its way out cannot join again."""
         if self.left:
             return
-        self.joined = True
-        self.pub.publish(Lockstep(handled=from_ns(handled_ns),
-                                  next=from_ns(next_ns),
-                                  commands=self.commands))
+        self.follower.handled_step(handled_ns or None)
+        topics = sorted(self.sent_counts)
+        self.last = LockstepReport(
+            handled=from_ns(handled_ns), next=from_ns(next_ns),
+            every_step=self.every_step, leaving=leaving, cmd_topics=topics,
+            cmd_counts=[self.sent_counts[t] for t in topics])
+        publish(self.pub, self.last)
 
-    def leave(self, handled_ns):
-        """Leave the lockstep (no-op when not a member, or after shutdown)."""
+    def leave(self):
+        """Leave the lockstep (a no-op when not a member): the last report
+        carries the commands sent, so the simulator still waits for them."""
         if not self.joined:
             return
+        self.report(self.follower.handled or 0, 0, leaving=True)
         self.joined, self.left = False, True
-        try:
-            self.pub.publish(Lockstep(handled=from_ns(handled_ns),
-                                      commands=self.commands))
-        except rospy.ROSException:  # topics closed by shutdown: the
-            pass                    # closing connection says it instead

@@ -13,9 +13,9 @@ robot stopped, when the transform stops updating for ``~tf_timeout`` or
 when ``/clock`` stops under simulated time. Exit status 0 only after a
 completed course.
 
-Under lockstep simulated time (rbx1_nav.ros.lockstep) the node is a member
-of its simulator's gate while it drives: each control tick falls on a step
-the simulator published, simulated time waits for the tick's command, and
+Under lockstep simulated time (rbx1_nav.lockstep) the node is a member
+while it drives: sim_clock grants it each control tick, at which the
+simulator has published its state, and time waits for the tick's command;
 the start-up waits for the clock, the transform and a cmd_vel subscriber
 (~tf_wait) count wall seconds, since they wait for other processes rather
 than for the robot.
@@ -141,11 +141,13 @@ class MotionRunner(object):
         self.odom_sub = rospy.Subscriber('odom', Odometry, self._on_odom,
                                          queue_size=100, tcp_nodelay=True)
         self._clock_ready = False
-        self.lockstep = (lockstep.Reporter(lockstep.NODE_TOPIC)
-                         if lockstep.enabled() else None)
-        # Lockstep: the followed transform is the simulator's, published at
-        # each of this node's ticks.
-        self.follow_steps = False
+        self.lockstep = lockstep.Member() if lockstep.enabled() else None
+        # Lockstep: the simulator whose transform is followed (None: not
+        # a simulator's), the members granted the current tick, and how
+        # long (wall s) to wait for the simulator's state at a tick.
+        self.simulator = None
+        self.granted = set()
+        self.state_wait = lockstep.STATE_LIMIT
 
     def _on_odom(self, msg):
         twist = msg.twist.twist
@@ -165,10 +167,11 @@ class MotionRunner(object):
                     % (self.name, spell))
 
     def _send(self, twist):
-        """Publish on cmd_vel, counted for the lockstep gate."""
+        """Publish on cmd_vel, counted for lockstep (the simulator steps on
+        once it has them all)."""
         self.cmd_vel.publish(twist)
-        if self.lockstep is not None and self.lockstep.joined:
-            self.lockstep.commands += 1
+        if self.lockstep is not None:
+            self.lockstep.sent(self.cmd_vel.resolved_name)
 
     def stop(self):
         """Command zero velocity (a no-op once rospy has closed its topics:
@@ -213,9 +216,10 @@ class MotionRunner(object):
         control loop, and with it the stale-tf check, would block forever.
         This thread measures wall time (the one place the node does) and shuts
         the node down, robot stopped, when ROS time stands still for
-        max(2 s, ~tf_timeout) of wall time.
+        max(2 s, ~tf_timeout) of wall time. Under lockstep the node waits
+        for grants instead, with a limit of its own (:meth:`_ticks`).
         """
-        if not rospy.get_param('/use_sim_time', False):
+        if not rospy.get_param('/use_sim_time', False) or self.lockstep is not None:
             return
         limit = max(2.0, self.settings['tf_timeout'])
 
@@ -329,12 +333,12 @@ class MotionRunner(object):
             if deadline.expired():
                 if self.cmd_vel.get_num_connections():
                     raise CourseAborted(
-                        '/lockstep is set but the node taking %s does not '
-                        'take lockstep reports on %s after %.1f s: start the '
+                        '/lockstep is set but the node taking %s (%s) is not '
+                        'granted lockstep steps on %s after %.1f s: start the '
                         'simulator with lockstep too, or set /lockstep false'
-                        % (self.cmd_vel.resolved_name,
-                           self.lockstep.pub.resolved_name,
-                           self.settings['tf_wait']))
+                        % (self.cmd_vel.resolved_name, ', '.join(sorted(
+                            c.endpoint_id for c in self.cmd_vel.impl.connections)),
+                           lockstep.GRANT_TOPIC, self.settings['tf_wait']))
                 raise CourseAborted('nothing subscribes to %s after %.1f s: %s'
                                     % (self.cmd_vel.resolved_name,
                                        self.settings['tf_wait'],
@@ -342,14 +346,13 @@ class MotionRunner(object):
             deadline.poll(50)
 
     def _listening(self):
-        """True once the driver takes cmd_vel; under lockstep, once the
-        simulator takes both cmd_vel and the reports (it counts every
-        command, so none may go out before its connection is up)."""
+        """True once the driver takes cmd_vel; under lockstep, once a
+        simulator that takes part in it does (it counts every command, so
+        none may go out before its connection is up)."""
         takers = {c.endpoint_id for c in self.cmd_vel.impl.connections}
         if self.lockstep is None:
             return bool(takers)
-        keepers = self.lockstep.listeners()
-        return bool(keepers) and keepers <= takers
+        return bool(takers & self.lockstep.simulators())
 
     def _deadline(self, seconds):
         return _Deadline(seconds, wall=self.lockstep is not None)
@@ -397,19 +400,20 @@ class MotionRunner(object):
             return self._drive(course)
         finally:
             if self.lockstep is not None:
-                self.lockstep.leave(lockstep.to_ns(rospy.Time.now()))
+                self.lockstep.leave()
 
     def _drive(self, course):
         """The control loop of :meth:`run`."""
         timeout = rospy.Duration(self.settings['tf_timeout'])
         blind = self.followed is None
         pose = Pose2D(0.0, 0.0, 0.0) if blind else None
-        last_stamp = None
-        fresh_at = rospy.Time.now()
+        last_stamp = fresh_at = None
         self.tick_times = []
         for now in self._ticks(blind):
             self.tick_times.append(now.to_sec())
-            reading = None if blind else self._reading(now, fresh_at + timeout)
+            if fresh_at is None:
+                fresh_at = now
+            reading = None if blind else self._reading(now)
             if reading is not None and (last_stamp is None
                                         or reading[1] > last_stamp):
                 pose, last_stamp = reading
@@ -437,7 +441,7 @@ class MotionRunner(object):
             raise rospy.ROSInterruptException('shutdown before the course ended')
         self.stop()
         self._check_stalls(course)
-        course.stalls.end(rospy.Time.now().to_sec())
+        course.stalls.end(self.tick_times[-1])
         return None if blind else pose
 
     def _check_age(self, age, predicts):
@@ -462,42 +466,54 @@ class MotionRunner(object):
                 yield rospy.Time.now()
                 rate.sleep()
             return
-        ticks = self.lockstep.ticks(self.settings['rate'], self.settings['tf_wait'])
+        member = self.lockstep
         try:
-            first = next(ticks)
+            member.join(self.settings['tf_wait'])
         except lockstep.JoinError as err:
             raise CourseAborted('/lockstep is set but this node cannot join: %s. '
                                 'Start the simulator with lockstep too, or set '
                                 '/lockstep false' % err)
-        self.follow_steps = not blind and self._from_simulator()
-        yield lockstep.from_ns(first)
-        for tick in ticks:
+        self.simulator = None if blind else self._simulator()
+        period = int(round(1e9 / self.settings['rate']))
+        limit = max(lockstep.GRANT_LIMIT, self.settings['tf_timeout'])
+        while True:
+            granted = member.wait_grant(limit)
+            if granted is None:
+                if rospy.is_shutdown():
+                    return
+                self.stop()
+                raise CourseAborted(
+                    '/clock has not advanced: no lockstep step granted for %.1f s '
+                    'of wall time (sim_clock gone?); stopped the robot' % limit)
+            action, tick, grant = granted
+            self.granted = set(grant.members)
+            if action == lockstep.BACK:
+                raise rospy.ROSTimeMovedBackwardsException(
+                    (member.follower.handled - tick) * 1e-9)
             yield lockstep.from_ns(tick)
+            member.report(tick, tick + period)
 
-    def _from_simulator(self):
-        """True if the followed transform comes from the simulator this node
-        reports to (not from a filter, whose stamps are not its steps)."""
+    def _simulator(self):
+        """The lockstep simulator that broadcasts the followed transform, or
+        None (a filter's, whose stamps are not steps)."""
         frames = yaml.safe_load(self.tf_buffer.all_frames_as_yaml()) or {}
         broadcaster = frames.get(self.followed, {}).get('broadcaster')
-        return broadcaster in self.lockstep.listeners()
+        return broadcaster if broadcaster in self.lockstep.simulators() else None
 
-    def _reading(self, now, give_up):
+    def _reading(self, now):
         """(pose, stamp) for the tick at ``now``, or None.
 
-        Under lockstep, following the simulator's transform, first wait for
-        its step at that very time, or until ROS time passes ``give_up``
-        (the simulator is gone and the clock runs on without it).
+        Under lockstep, following the transform of a simulator granted the
+        same tick, first wait for its state at that very time (it publishes
+        it on the same grant). If it does not come within STATE_LIMIT wall
+        seconds (the simulator died) the next ticks take what there is,
+        until it catches up; the staleness check then ends the course.
         """
-        tick = lockstep.to_ns(now)
-        while self.follow_steps and not rospy.is_shutdown():
-            if self.tf_listener.wait(lambda: self._stamp() >= tick, 0.01):
-                break
-            clock = rospy.Time.now()
-            if clock > give_up:
-                break
-            if lockstep.to_ns(clock) < tick:  # a new clock, from further back
-                raise rospy.ROSTimeMovedBackwardsException(
-                    (tick - lockstep.to_ns(clock)) * 1e-9)
+        if self.simulator is not None and self.simulator in self.granted:
+            tick = lockstep.to_ns(now)
+            arrived = self.tf_listener.wait(lambda: self._stamp() >= tick,
+                                            self.state_wait)
+            self.state_wait = lockstep.STATE_LIMIT if arrived else 0.0
         return self.lookup()
 
     def _stamp(self):
