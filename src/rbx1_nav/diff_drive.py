@@ -48,7 +48,16 @@ DEFAULT_COVARIANCE_DIAGONAL = (1e-3, 1e-3, 1e6, 1e6, 1e6, 1e-3)
 def wrap_angles(angles):
     """``angles`` (rad, an array) wrapped to [-pi, pi], as math.remainder does."""
     angles = np.asarray(angles, dtype=float)
-    return angles - 2.0 * math.pi * np.round(angles / (2.0 * math.pi))
+    return angles - 2.0 * math.pi * np.rint(angles / (2.0 * math.pi))
+
+
+def _columns(*columns):
+    """An (N, len(columns)) array of the N-arrays ``columns`` (what
+    np.column_stack does, at a fraction of its cost for a few robots)."""
+    out = np.empty((len(columns[0]), len(columns)))
+    for i, column in enumerate(columns):
+        out[:, i] = column
+    return out
 
 
 def arc_steps(poses, ds, dtheta):
@@ -61,11 +70,14 @@ def arc_steps(poses, ds, dtheta):
     and points along the mean heading; numpy's sinc keeps that well defined
     at ``dtheta == 0``.
     """
-    chord = ds * np.sinc(dtheta / (2.0 * math.pi))
-    heading = poses[:, 2] + 0.5 * dtheta
-    return np.column_stack((poses[:, 0] + chord * np.cos(heading),
-                            poses[:, 1] + chord * np.sin(heading),
-                            wrap_angles(poses[:, 2] + dtheta)))
+    half = 0.5 * dtheta
+    straight = half == 0.0
+    half_or_one = np.where(straight, 1.0, half)
+    chord = ds * np.where(straight, 1.0, np.sin(half_or_one) / half_or_one)
+    heading = poses[:, 2] + half
+    return _columns(poses[:, 0] + chord * np.cos(heading),
+                    poses[:, 1] + chord * np.sin(heading),
+                    wrap_angles(poses[:, 2] + dtheta))
 
 
 def arc_step(pose, ds, dtheta):
@@ -210,8 +222,11 @@ def _approach(current, target, max_change):
     The result never passes ``target``, not even by a rounding error, so a
     speed at its limit stays within it.
     """
+    if max_change == float('inf'):
+        return target
     moved = current + np.copysign(max_change, target - current)
-    moved = np.clip(moved, np.minimum(current, target), np.maximum(current, target))
+    moved = np.minimum(np.maximum(moved, np.minimum(current, target)),
+                       np.maximum(current, target))
     return np.where(np.abs(target - current) <= max_change, target, moved)
 
 
@@ -276,8 +291,8 @@ class DiffDriveFleet:
         if not (math.isfinite(v) and math.isfinite(w)):
             self._pending[robot].append((due, 0.0, 0.0))
             return 'non-finite'
-        cv = float(np.clip(v, -cfg.max_linear_speed, cfg.max_linear_speed))
-        cw = float(np.clip(w, -cfg.max_angular_speed, cfg.max_angular_speed))
+        cv = max(-cfg.max_linear_speed, min(cfg.max_linear_speed, v))
+        cw = max(-cfg.max_angular_speed, min(cfg.max_angular_speed, w))
         self._pending[robot].append((due, cv, cw))
         return 'clamped' if (cv, cw) != (v, w) else None
 
@@ -301,7 +316,7 @@ class DiffDriveFleet:
             return False
         self._time = now
         v, w = self._execute(now, dt)
-        self.velocity = np.column_stack((v, w))
+        self.velocity = _columns(v, w)
         self.truth = arc_steps(self.truth, v * dt, w * dt)
         self._update_wheels_and_odometry(v, w, dt)
         self._update_gyro(w, dt)
@@ -333,7 +348,7 @@ class DiffDriveFleet:
         """
         cfg = self.config
         half_track = 0.5 * cfg.wheel_separation
-        travel = np.column_stack((v - w * half_track, v + w * half_track)) * dt
+        travel = _columns(v - w * half_track, v + w * half_track) * dt
         if cfg.encoder_noise > 0:
             # Variance grows with distance travelled, not with the step count.
             travel += (cfg.encoder_noise * np.sqrt(np.abs(travel))
@@ -351,7 +366,7 @@ class DiffDriveFleet:
                   / (cfg.wheel_separation * cfg.wheel_separation_multiplier)
                   * cfg.angular_scale_error * cfg.odom_angular_scale_correction)
         self.odom = arc_steps(self.odom, ds, dtheta)
-        self.odom_velocity = np.column_stack((ds / dt, dtheta / dt))
+        self.odom_velocity = _columns(ds / dt, dtheta / dt)
 
     def _update_gyro(self, w, dt):
         """A z-axis gyro per robot: true yaw rate + bias + white noise, integrated."""

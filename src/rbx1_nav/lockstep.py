@@ -14,7 +14,8 @@ The members:
 
 * A **simulator** (fake_turtlebot.py, fake_fleet.py, any later one) is
   granted every step: at T it applies the commands that arrived, steps its
-  model to T and publishes the state at T before it reports.
+  model to T (through each step of its own grid on the way) and publishes
+  the state at each before it reports.
 * A **motion node** is granted only its own ticks: at T it reads the
   simulator's state stamped T, publishes its command and reports, with the
   number of ``cmd_vel`` messages it has sent on each topic so far.
@@ -25,7 +26,12 @@ the grant counted (commands travel on their own connections). ``/clock``
 is published for ordinary nodes (RViz, rosbag, pose_ekf, a user's script);
 no member waits for it. Time jumps from event to event: the next grant is
 the earliest next tick any member asked for, so a 20 Hz course on a 50 Hz
-simulator costs the union of both grids, not a 10 ms walk.
+simulator costs the union of both grids, not a 10 ms walk. With ``batch``
+(sim_clock at full speed, where nothing watches the wall clock) only the
+motion nodes' ticks are granted while any takes part: a simulator steps
+through its own grid up to each grant on its own, as Gazebo's physics runs
+between two sensor or controller updates, with the same states and stamps
+and a third of the round trips.
 
 Why nothing can wait forever (the deadlock argument):
 
@@ -97,9 +103,10 @@ class Owner(object):
     step taken when no member asks for a time. ``wall`` times are passed
     in, so the watchdogs are testable without sleeping."""
 
-    def __init__(self, start=0, step=10000000):
+    def __init__(self, start=0, step=10000000, batch=False):
         self.now = start
         self.step = step
+        self.batch = batch
         self.members = {}   # name -> _Member
         self.commands = {}  # (topic, sender) -> cmd_vel messages it sent
 
@@ -132,6 +139,9 @@ class Owner(object):
         if not self.members:
             return None
         asked = [m.next for m in self.members.values() if m.next is not None]
+        if self.batch:  # simulators' grids only when no node asks
+            asked = ([m.next for m in self.members.values()
+                      if m.next is not None and not m.every_step] or asked)
         time = min(asked) if asked else self.now + self.step
         time = max(time, self.now + 1)
         names = sorted(name for name, m in self.members.items()

@@ -73,6 +73,23 @@ def test_a_20_hz_course_on_a_50_hz_simulator_costs_only_their_ticks():
     assert set(range(10 * MS, 1010 * MS + 1, 20 * MS)) <= set(times)
 
 
+def test_batched_a_simulator_is_granted_only_the_courses_ticks():
+    owner = Owner(batch=True)
+    owner.report(report('/sim', 0, 0, every_step=True))
+    time, names = owner.next_grant()
+    owner.grant(time, names, 0.0)
+    owner.report(report('/sim', time, time + 20 * MS, every_step=True))
+    assert owner.next_grant() == (time + 20 * MS, ['/sim'])  # alone: its grid
+    owner.report(report('/course', 0, 0))
+    time, names = owner.next_grant()
+    owner.grant(time, names, 0.0)
+    owner.report(report('/sim', time, time + 20 * MS, every_step=True))
+    owner.report(report('/course', time, time + 50 * MS))
+    assert owner.next_grant() == (time + 50 * MS, ['/course', '/sim'])
+    owner.report(report('/course', 0, 0, leaving=True))
+    assert owner.next_grant() == (time + 20 * MS, ['/sim'])
+
+
 def test_reports_that_do_not_answer_the_grant_change_nothing():
     owner = Owner()
     owner.report(report('/course', 0, 0))

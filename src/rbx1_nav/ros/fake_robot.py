@@ -98,16 +98,22 @@ class RobotTopics:
         self.throttle = Throttle(WARN_PERIOD)
 
         # Room for a whole catch-up burst (MAX_CATCH_UP of steps published
-        # at once), so a late wake-up does not drop odometry messages.
+        # at once), so a late wake-up does not drop odometry messages. Under
+        # lockstep each message is written before the step is reported, so
+        # a motion node gets its tick's state without a queue thread's delay.
         queue = int(math.ceil(values['rate'] * MAX_CATCH_UP)) + 10
-        self.odom_pub = rospy.Publisher(topic('odom'), Odometry, queue_size=queue)
-        self.truth_pub = rospy.Publisher(topic('ground_truth'), Odometry,
-                                         queue_size=queue)
-        self.joint_pub = rospy.Publisher(topic('joint_states'), JointState,
-                                         queue_size=queue)
-        self.imu_pub = (rospy.Publisher(topic('imu_data'), Imu, queue_size=queue)
+
+        def publisher(name, msg_class, queue_size=queue):
+            if lockstep.enabled():
+                return lockstep.synchronous_publisher(name, msg_class)
+            return rospy.Publisher(name, msg_class, queue_size=queue_size)
+
+        self.odom_pub = publisher(topic('odom'), Odometry)
+        self.truth_pub = publisher(topic('ground_truth'), Odometry)
+        self.joint_pub = publisher(topic('joint_states'), JointState)
+        self.imu_pub = (publisher(topic('imu_data'), Imu)
                         if values['publish_imu'] else None)
-        self.gps_pub = (rospy.Publisher(topic('gps'), Odometry, queue_size=10)
+        self.gps_pub = (publisher(topic('gps'), Odometry, 10)
                         if values['publish_gps'] else None)
         # Its own generator, so turning the GPS on leaves the odometry and
         # gyro noise of a given ~seed unchanged.
@@ -117,8 +123,7 @@ class RobotTopics:
         self.next_gps = None
         # What tf2_ros's TransformBroadcaster and StaticTransformBroadcaster
         # do, on this robot's own topics when it has a namespace.
-        self.tf_pub = (rospy.Publisher(topic('tf') if ns else '/tf', TFMessage,
-                                       queue_size=100)
+        self.tf_pub = (publisher(topic('tf') if ns else '/tf', TFMessage, 100)
                        if values['publish_tf'] else None)
         self.static_tf = rospy.Publisher(topic('tf_static') if ns else '/tf_static',
                                          TFMessage, queue_size=100, latch=True)
@@ -303,9 +308,11 @@ def spin_lockstep(rate, step, robots, log_name):
     """:func:`spin_on_ros_time` as a lockstep simulator (rbx1_nav.lockstep).
 
     sim_clock grants it every step: the 1/``rate`` grid it asks for and
-    every tick a motion node asks for. At each it waits for the commands
-    the nodes reported sending, steps to that time and publishes the state
-    there (so a node steers by the pose of its very tick), then reports.
+    every tick a motion node asks for (at full speed only the ticks: then
+    it steps through its own grid up to each on its own). At each it waits
+    for the commands the nodes reported sending, steps to that time and
+    publishes the state there (so a node steers by the pose of its very
+    tick), then reports.
     A grant from before the last step (a new clock, from further back)
     starts the model again from there.
     """
@@ -337,9 +344,17 @@ def spin_lockstep(rate, step, robots, log_name):
                 (member.follower.handled - now) * 1e-9))
             grid = None
         member.wait_commands(grant)
-        for robot in robots:
-            robot.step_time = now * 1e-9
-        step(lockstep.from_ns(now))
+        while grid is not None and grid < now:  # its own steps on the way
+            _step_at(grid, step, robots)
+            grid += period
+        _step_at(now, step, robots)
         if grid is None or now >= grid:
             grid = now + period
         member.report(now, grid)
+
+
+def _step_at(time_ns, step, robots):
+    """Step to ``time_ns``; commands arriving from now on count from there."""
+    for robot in robots:
+        robot.step_time = time_ns * 1e-9
+    step(lockstep.from_ns(time_ns))

@@ -81,12 +81,13 @@ class TimeOwner(object):
     """sim_clock's side of lockstep: the one owner of simulated time.
 
     ``start`` and ``step`` (ns): the time already reached and the step
-    taken when no member asks for a time.
+    taken when no member asks for a time; ``batch``: grant simulators only
+    the motion nodes' ticks while any takes part (rbx1_nav.lockstep).
     """
 
-    def __init__(self, start, step, name='sim_clock'):
+    def __init__(self, start, step, batch=False, name='sim_clock'):
         self.name = name
-        self.owner = Owner(start, step)
+        self.owner = Owner(start, step, batch)
         self.session = random.getrandbits(63) or 1
         self.cond = threading.Condition()
         self.seen = set()  # members whose report connection was listed
@@ -113,10 +114,6 @@ class TimeOwner(object):
         with self.cond:
             return self.owner.next_grant()
 
-    def publish_clock(self, time_ns):
-        """/clock at ``time_ns``; False once shutting down."""
-        return publish(self.clock_pub, Clock(clock=from_ns(time_ns)))
-
     def _send(self, time_ns, names):
         counts = self.owner.command_counts()
         return publish(self.grant_pub, LockstepGrant(
@@ -130,16 +127,17 @@ class TimeOwner(object):
 
     def grant(self, time_ns, names):
         """Grant the step ``time_ns`` to ``names`` (none: time just moves
-        on) and wait (wall time) until
+        on), publish it on /clock, and wait (wall time) until
         each has reported it, re-sending it to the silent ones every RESEND
         s and dropping members that died or stay silent for SILENT s.
         False once the node shuts down."""
         with self.cond:
             started = time.monotonic()
             names = self.owner.grant(time_ns, names, started)
-            if not names:
-                return True
-            if not self._send(time_ns, names):
+            # /clock for everyone else: after the grant, off its path.
+            if names and not self._send(time_ns, names):
+                return False
+            if not publish(self.clock_pub, Clock(clock=from_ns(time_ns))):
                 return False
             resend_at, warn_at = started + RESEND, started + SLOW_MEMBER
             while self.owner.owing():
