@@ -55,7 +55,11 @@ def run_lockstep(pacer, speed):
     it is granted to, and the next starts once they have handled it."""
     # At full speed nothing watches the wall clock between two ticks of a
     # motion node: the simulators step through their own grids alone.
+    pacer.advance(time.monotonic())  # a first time after 0, which ROS reads as unset
     owner = lockstep.TimeOwner(pacer.sim_ns, pacer.step_ns, batch=speed is None)
+    # Time starts with its members: the simulators (and the nodes of an
+    # earlier sim_clock, started again from further back) join first.
+    owner.wait_for_members(lockstep.FIRST_MEMBER)
     while not rospy.is_shutdown():
         grant = owner.next_grant()
         target, names = grant if grant else (None, [])

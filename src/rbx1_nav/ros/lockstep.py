@@ -33,6 +33,8 @@ SLOW_MEMBER = 1.0
 GRANT_LIMIT = SILENT + 1.0
 #: Wall seconds a motion node waits for its simulator's state at a tick.
 STATE_LIMIT = 1.0
+#: Wall seconds sim_clock holds time at its start for a first member.
+FIRST_MEMBER = 2.0
 
 
 def enabled():
@@ -121,9 +123,14 @@ class TimeOwner(object):
             cmd_topics=[c[0] for c in counts], cmd_senders=[c[1] for c in counts],
             cmd_counts=[c[2] for c in counts]))
 
-    def has_members(self):
+    def wait_for_members(self, limit):
+        """Publish the start time on /clock (nodes wait for a first one
+        before they join), then wait up to ``limit`` wall seconds for a
+        first member."""
+        publish(self.clock_pub, Clock(clock=from_ns(self.owner.now)))
         with self.cond:
-            return bool(self.owner.members)
+            self.cond.wait_for(lambda: self.owner.members or rospy.is_shutdown(),
+                               limit)
 
     def grant(self, time_ns, names):
         """Grant the step ``time_ns`` to ``names`` (none: time just moves
@@ -197,6 +204,7 @@ class Member(object):
         self.grant = None       # the newest grant naming this node
         self.members = set()    # the names in the newest grant seen
         self.joined = self.left = False
+        self.rejoin = False     # a new owner is there: send the report now
         self.last = None        # the last report, to send again
         self.pub = synchronous_publisher(REPORT_TOPIC, LockstepReport)
         self.sub = rospy.Subscriber(GRANT_TOPIC, LockstepGrant, self._on_grant,
@@ -207,6 +215,10 @@ class Member(object):
             self.members = set(msg.members)
             if self.name in self.members:
                 self.grant = msg
+                self.cond.notify_all()
+            elif self.joined and msg.session != self.follower.session:
+                # A new owner (sim_clock restarted): join it at once.
+                self.rejoin = True
                 self.cond.notify_all()
 
     def simulators(self):
@@ -242,8 +254,10 @@ class Member(object):
         started = time.monotonic()
         while not rospy.is_shutdown():
             with self.cond:
-                self.cond.wait_for(lambda: self.grant is not None, RESEND)
+                self.cond.wait_for(lambda: self.grant is not None or self.rejoin,
+                                   RESEND)
                 grant, self.grant = self.grant, None
+                self.rejoin = False
             if grant is None:
                 if limit is not None and time.monotonic() - started > limit:
                     return None
