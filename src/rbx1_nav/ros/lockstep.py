@@ -124,13 +124,15 @@ class TimeOwner(object):
             cmd_counts=[c[2] for c in counts]))
 
     def wait_for_members(self, limit):
-        """Publish the start time on /clock (nodes wait for a first one
-        before they join), then wait up to ``limit`` wall seconds for a
-        first member."""
-        publish(self.clock_pub, Clock(clock=from_ns(self.owner.now)))
+        """Wait up to ``limit`` wall seconds for a first member, publishing
+        the start time on /clock meanwhile (nodes wait for a first /clock
+        before they join, and take it only once they have subscribed)."""
+        deadline = time.monotonic() + limit
         with self.cond:
-            self.cond.wait_for(lambda: self.owner.members or rospy.is_shutdown(),
-                               limit)
+            while not (self.owner.members or rospy.is_shutdown()
+                       or time.monotonic() > deadline):
+                publish(self.clock_pub, Clock(clock=from_ns(self.owner.now)))
+                self.cond.wait(0.05)
 
     def grant(self, time_ns, names):
         """Grant the step ``time_ns`` to ``names`` (none: time just moves
@@ -261,12 +263,12 @@ class Member(object):
             if grant is None:
                 if limit is not None and time.monotonic() - started > limit:
                     return None
-                publish(self.pub, self.last)
+                self._send_again()
                 continue
             time_ns = to_ns(grant.time)
             action = self.follower.grant(grant.session, time_ns)
             if action == REPEAT:
-                publish(self.pub, self.last)
+                self._send_again()
             elif action == STALE:
                 rospy.logwarn('%s: lockstep grant at %.3f s is before the step '
                               'already handled (%.3f s): refused', self.name,
@@ -274,6 +276,11 @@ class Member(object):
             else:
                 return action, time_ns, grant
         return None
+
+    def _send_again(self):
+        with self.cond:
+            if self.joined and self.last is not None:
+                publish(self.pub, self.last)
 
     def wait_commands(self, grant):
         """A simulator, before stepping: wait (wall time) until every command
@@ -307,20 +314,22 @@ class Member(object):
         """Handled ``handled_ns``; ``next_ns`` its next tick. After leave()
         (a shutdown hook, from another thread) none goes out, so a node on
         its way out cannot join again."""
-        if self.left:
-            return
-        self.follower.handled_step(handled_ns or None)
-        topics = sorted(self.sent_counts)
-        self.last = LockstepReport(
-            handled=from_ns(handled_ns), next=from_ns(next_ns),
-            every_step=self.every_step, leaving=leaving, cmd_topics=topics,
-            cmd_counts=[self.sent_counts[t] for t in topics])
-        publish(self.pub, self.last)
+        with self.cond:  # not interleaved with leave() from another thread
+            if self.left:
+                return
+            self.follower.handled_step(handled_ns or None)
+            topics = sorted(self.sent_counts)
+            self.last = LockstepReport(
+                handled=from_ns(handled_ns), next=from_ns(next_ns),
+                every_step=self.every_step, leaving=leaving, cmd_topics=topics,
+                cmd_counts=[self.sent_counts[t] for t in topics])
+            publish(self.pub, self.last)
 
     def leave(self):
         """Leave the lockstep (a no-op when not a member): the last report
         carries the commands sent, so the simulator still waits for them."""
-        if not self.joined:
-            return
-        self.report(self.follower.handled or 0, 0, leaving=True)
-        self.joined, self.left = False, True
+        with self.cond:
+            if not self.joined:
+                return
+            self.report(self.follower.handled or 0, 0, leaving=True)
+            self.joined, self.left = False, True
