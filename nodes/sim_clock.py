@@ -11,12 +11,15 @@ this node is the one owner of simulated time (rbx1_nav.lockstep): it
 grants each step to the simulators and the motion nodes taking part and
 waits until each has handled it, jumping from one member's tick to the
 next; a course then ends the same at any speed and under any load.
-~speed max runs as fast as they allow; with nobody taking part yet, 'max'
-runs at real time.
+~speed max runs as fast as they allow while a motion node takes part;
+with only simulators taking part (a course not started yet, or over) it
+runs at ~idle_speed, so a waiting simulator does not spin a core for
+nothing; with nobody taking part, at real time.
 
-Parameters: ~speed (1.0, x real time, 0.001 to 1e6, or max), ~step (0.01 s
-of sim time per tick when no member asks for a time, 1e-9 to 0.01),
-~start_time (0.0 s, at most 2**31).
+Parameters: ~speed (1.0, x real time, 0.001 to 1e6, or max), ~idle_speed
+(10, x real time: with ~speed max, while only simulators take part), ~step
+(0.01 s of sim time per tick when no member asks for a time, 1e-9 to
+0.01), ~start_time (0.0 s, at most 2**31).
 """
 import time
 
@@ -26,11 +29,15 @@ from rosgraph_msgs.msg import Clock
 from rbx1_nav.params import number, param
 from rbx1_nav.ros import lockstep
 from rbx1_nav.ros.node import start_node
-from rbx1_nav.sim_clock import MAX_START, MAX_STEP, MIN_STEP, ClockPacer, speed
+from rbx1_nav.sim_clock import (MAX_SPEED, MAX_START, MAX_STEP, MIN_SPEED, MIN_STEP,
+                               ClockPacer, speed)
 
 PARAMS = (
     param('speed', 1.0, speed, 'x real time', 'simulated seconds per wall '
           "second, or max (sim_clock.launch: sim_speed)"),
+    param('idle_speed', 10.0, number, 'x real time', 'with speed max: the '
+          'speed while only simulators take part in lockstep',
+          minimum=MIN_SPEED, maximum=MAX_SPEED),
     param('step', MAX_STEP, number, 's', 'simulated time per /clock message '
           'when no lockstep member asks for a time', minimum=MIN_STEP,
           maximum=MAX_STEP),
@@ -50,7 +57,7 @@ def run_free(pacer):
             break
 
 
-def run_lockstep(pacer, speed):
+def run_lockstep(pacer, speed, idle_speed):
     """Own simulated time: each step goes to /clock, then to the members
     it is granted to, and the next starts once they have handled it."""
     # At full speed nothing watches the wall clock between two ticks of a
@@ -64,7 +71,7 @@ def run_lockstep(pacer, speed):
         grant = owner.next_grant()
         target, names = grant if grant else (None, [])
         if speed is None:
-            pacer.set_speed(None if grant else 1.0)
+            pacer.set_speed(None if owner.drives() else idle_speed if grant else 1.0)
         sim_ns, wait = pacer.advance(time.monotonic(), target)
         if wait > 0:
             time.sleep(wait)
@@ -81,7 +88,7 @@ def main():
     if not rospy.get_param('/use_sim_time', False):
         rospy.logwarn('sim_clock: /use_sim_time is not set; nodes will ignore /clock')
     if lockstep.enabled():
-        run_lockstep(pacer, speed)
+        run_lockstep(pacer, speed, values['idle_speed'])
         return
     if speed is None:
         rospy.logwarn("sim_clock: ~speed max without /lockstep has nothing to "

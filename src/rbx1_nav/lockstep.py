@@ -148,6 +148,10 @@ class Owner(object):
                        if m.every_step or m.next is None or m.next <= time)
         return time, names
 
+    def drives(self):
+        """True while a member that is no simulator (a motion node) takes part."""
+        return any(not m.every_step for m in self.members.values())
+
     def grant(self, time, names, wall):
         """The step ``time`` goes out to ``names`` at wall time ``wall``;
         return the names still members (one may have left meanwhile)."""

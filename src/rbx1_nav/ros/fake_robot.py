@@ -195,10 +195,11 @@ class RobotTopics:
             tf.transform.rotation = odom.pose.pose.orientation
             self.tf_pub.publish(TFMessage([tf]))
 
-        joints = JointState(name=self.joints, position=robot.wheel_angles,
-                            velocity=robot.wheel_velocities)
-        joints.header.stamp = stamp
-        self.joint_pub.publish(joints)
+        if self.joint_pub.get_num_connections():  # robot_state_publisher, a bag
+            joints = JointState(name=self.joints, position=robot.wheel_angles,
+                                velocity=robot.wheel_velocities)
+            joints.header.stamp = stamp
+            self.joint_pub.publish(joints)
 
         if self.truth_pub.get_num_connections():  # skip the work if unused
             self.truth_pub.publish(fill_odometry(Odometry(), stamp, self.truth_frame,

@@ -123,6 +123,11 @@ class TimeOwner(object):
             cmd_topics=[c[0] for c in counts], cmd_senders=[c[1] for c in counts],
             cmd_counts=[c[2] for c in counts]))
 
+    def drives(self):
+        """True while a motion node takes part (rbx1_nav.lockstep.Owner)."""
+        with self.cond:
+            return self.owner.drives()
+
     def wait_for_members(self, limit):
         """Wait up to ``limit`` wall seconds for a first member, publishing
         the start time on /clock meanwhile (nodes wait for a first /clock

@@ -126,8 +126,11 @@ class MotionRunner(object):
         self.odom_frame = settings['odom_frame']
         self.base_frame = settings['base_frame']  # '' = automatic
         self.followed = None  # the base frame found on tf
-        self.cmd_vel = rospy.Publisher('cmd_vel', Twist, queue_size=5,
-                                       tcp_nodelay=True)
+        # Under lockstep each command is on its way before the tick's report.
+        self.lockstep = lockstep.Member() if lockstep.enabled() else None
+        self.cmd_vel = (lockstep.synchronous_publisher('cmd_vel', Twist)
+                        if self.lockstep else
+                        rospy.Publisher('cmd_vel', Twist, queue_size=5, tcp_nodelay=True))
         self.lock = threading.Lock()
         self.halted = False
         # on_shutdown hooks run before rospy closes its topics (Ctrl-C,
@@ -141,7 +144,6 @@ class MotionRunner(object):
         self.odom_sub = rospy.Subscriber('odom', Odometry, self._on_odom,
                                          queue_size=100, tcp_nodelay=True)
         self._clock_ready = False
-        self.lockstep = lockstep.Member() if lockstep.enabled() else None
         # Lockstep: the simulator whose transform is followed (None: not
         # a simulator's), the members granted the current tick, and how
         # long (wall s) to wait for the simulator's state at a tick.
