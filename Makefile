@@ -49,22 +49,16 @@ lint: build
 	$(ROS) catkin_lint -W2 --strict $(WS)/src/rbx1_nav
 
 # Unit tests (pytest, no master), every test/*.test through rostest, and the
-# fault suite. First in two workers, test by test: everything but the
-# rostests whose nodes follow a free-running clock (those under lockstep
-# cannot fall behind, so they share the machine) and the two-host tests;
-# then those rostests one after another, beside the two-host tests (which
-# mostly wait on the wall clock, with a real-time robot).
-# The last line sums both runs.
+# fault suite, in one pytest run of three workers on the two cores: the
+# free-running rostests one after another in one, the two-host fault suite
+# one after another in another (both follow the wall clock: normal
+# priority), everything else spread over all three at a lower priority
+# (test/conftest.py). pytest's summary is the last line.
 REPORTS := $(WS)/test_results
 test: lint
-	@mkdir -p $(REPORTS) && rm -f $(REPORTS)/shared.xml $(REPORTS)/alone.xml
+	@mkdir -p $(REPORTS)
 	@$(ROS) python3 -m pytest test/unit test/integration test/faults -q -p no:cacheprovider \
-	  -n 2 --dist loadgroup --ignore=test/integration/test_rostest_files.py \
-	  --ignore=test/faults/test_two_hosts.py --junitxml=$(REPORTS)/shared.xml --durations=5; \
-	python3 -m pytest test/integration/test_rostest_files.py test/faults/test_two_hosts.py \
-	  -q -p no:cacheprovider -n 2 --dist loadgroup --junitxml=$(REPORTS)/alone.xml \
-	  --durations=5; \
-	python3 test/summary.py $(REPORTS)/shared.xml $(REPORTS)/alone.xml
+	  -n 3 --dist loadgroup --junitxml=$(REPORTS)/pytest.xml --durations=8
 
 unit:
 	python3 -m pytest test/unit -q -p no:cacheprovider

@@ -235,6 +235,14 @@ class CommandLedger(object):
                 for have in [self.received[(topic, sender)] + self.lost[(topic, sender)]]
                 if have < count]
 
+    def settle(self, counts):
+        """A simulator's first grant: the commands counted before it took
+        part were sent to its predecessor (or before it listened); none of
+        them is awaited."""
+        for topic, sender, count in counts:
+            if topic in self.topics:
+                self.lost[(topic, sender)] = max(0, count - self.received[(topic, sender)])
+
     def give_up(self, counts):
         """Take the missing commands of ``counts`` as lost; return them."""
         missing = self.missing(counts)

@@ -5,11 +5,10 @@ This lets `make test` report unit and integration results in one pytest
 summary. `catkin_make run_tests` runs the same files through add_rostest().
 The files whose graph runs under lockstep at full speed
 (`sim_speed" value="max"`), or that say BESIDE (every node that keeps time
-is a lockstep member), cannot fall behind their clock, so they are
-collected by test_rostest_files_lockstep.py, which `make test` runs in
-two workers beside the other pytest suites; the others, whose nodes follow
-a free-running clock, run here after that, one at a time (one xdist
-group), beside nothing but the light two-host tests.
+is a lockstep member), cannot fall behind their clock: they run in any
+worker, at a lower priority (test/conftest.py). The others, whose nodes
+follow a free-running clock, run one after another (one xdist group) at
+normal priority, so the machine's load cannot make them fall behind.
 """
 import glob
 import os
@@ -30,16 +29,9 @@ def _text(path):
         return f.read()
 
 
-def at_full_speed(path):
-    return '<arg name="sim_speed" value="max"/>' in _text(path)
-
-
 def lockstep_only(path):
-    return at_full_speed(path) or BESIDE in _text(path)
-
-
-LOCKSTEP_FILES = [f for f in ALL_FILES if lockstep_only(f)]
-TEST_FILES = [f for f in ALL_FILES if not lockstep_only(f)]
+    text = _text(path)
+    return '<arg name="sim_speed" value="max"/>' in text or BESIDE in text
 
 
 def run_rostest(test_file):
@@ -51,8 +43,11 @@ def run_rostest(test_file):
         os.path.basename(test_file), proc.stdout[-6000:])
 
 
-@pytest.mark.xdist_group('free_running')
-@pytest.mark.parametrize('test_file', TEST_FILES,
-                         ids=[os.path.relpath(f, TEST_DIR) for f in TEST_FILES])
+PARAMS = [pytest.param(f, id=os.path.relpath(f, TEST_DIR),
+                       marks=[] if lockstep_only(f) else [pytest.mark.xdist_group('free_running')])
+          for f in ALL_FILES]
+
+
+@pytest.mark.parametrize('test_file', PARAMS)
 def test_rostest(test_file):
     run_rostest(test_file)

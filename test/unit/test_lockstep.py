@@ -185,6 +185,16 @@ def test_commands_lost_on_the_way_are_given_up_once():
     assert ledger.missing([('/cmd_vel', '/course', 4)]) == []
 
 
+def test_a_simulator_started_late_does_not_wait_for_earlier_commands():
+    ledger = CommandLedger(['/cmd_vel'])
+    ledger.arrived('/cmd_vel', '/course')  # one sent after it listened
+    ledger.settle([('/cmd_vel', '/course', 120), ('/other/cmd_vel', '/x', 5)])
+    assert ledger.missing([('/cmd_vel', '/course', 120)]) == []
+    assert ledger.missing([('/cmd_vel', '/course', 121)]) == [('/cmd_vel', '/course', 1)]
+    ledger.arrived('/cmd_vel', '/course')
+    assert ledger.missing([('/cmd_vel', '/course', 121)]) == []
+
+
 # -- A whole graph, with messages delayed and reordered ----------------------
 
 class Network(object):

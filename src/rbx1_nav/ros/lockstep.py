@@ -207,6 +207,7 @@ class Member(object):
         self.follower = Follower()
         self.ledger = CommandLedger(cmd_topics)
         self.sent_counts = {}  # topic -> cmd_vel messages sent (motion node)
+        self.settled = False   # a simulator's first grant handled
         self.cond = threading.Condition()
         self.grant = None       # the newest grant naming this node
         self.members = set()    # the names in the newest grant seen
@@ -294,6 +295,9 @@ class Member(object):
         counts = list(zip(grant.cmd_topics, grant.cmd_senders, grant.cmd_counts))
         deadline = time.monotonic() + LOST_COMMANDS
         with self.cond:
+            if not self.settled:
+                self.ledger.settle(counts)
+                self.settled = True
             while self.ledger.missing(counts):
                 if time.monotonic() > deadline:
                     for topic, name, short in self.ledger.give_up(counts):

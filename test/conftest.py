@@ -1,0 +1,33 @@
+"""`make test` runs three pytest workers on two cores (see the Makefile).
+
+The tests whose processes follow the wall clock (the free-running
+rostests, the two-host fault suite: xdist groups in NORMAL_PRIORITY) run
+at normal priority; every other test, and what it starts, at niceness
+LOW_PRIORITY. Those others are unit tests, or graphs under lockstep that
+end the same however slowly they run, so they take whatever CPU the
+clock-bound tests leave and cannot make them fall behind.
+"""
+import os
+
+import pytest
+
+NORMAL_PRIORITY = {'free_running', 'two_hosts'}
+LOW_PRIORITY = 10
+
+
+def _group(item):
+    marker = item.get_closest_marker('xdist_group')
+    if marker is None:
+        return None
+    return marker.args[0] if marker.args else marker.kwargs.get('name')
+
+
+@pytest.fixture(autouse=True)
+def _priority(request):
+    """Set this worker's niceness for the test (inherited by what it starts)."""
+    nice = 0 if _group(request.node) in NORMAL_PRIORITY else LOW_PRIORITY
+    try:
+        os.setpriority(os.PRIO_PROCESS, 0, nice)
+    except PermissionError:  # only root may lower it again: leave it
+        pass
+    yield
