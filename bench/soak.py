@@ -23,6 +23,7 @@ import signal
 import statistics
 import subprocess
 import sys
+import threading
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -52,21 +53,21 @@ def run_once(launch, args, expected, limit):
     proc = subprocess.Popen(argv, env=env, stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, universal_newlines=True,
                             start_new_session=True)
-    done = slow = 0
+    counts = {'done': 0, 'slow': 0}
+
+    def read():
+        for line in proc.stdout:
+            counts['done'] += SUMMARY in line
+            counts['slow'] += SLOW in line
+
+    reader = threading.Thread(target=read, daemon=True)
+    reader.start()
     outcome = 'aborted'
-    os.set_blocking(proc.stdout.fileno(), False)
-    buffered = ''
     while True:
-        chunk = proc.stdout.read()
-        if chunk:
-            buffered += chunk
-            *lines, buffered = buffered.split('\n')
-            done += sum(SUMMARY in line for line in lines)
-            slow += sum(SLOW in line for line in lines)
-        if done >= expected:
+        if counts['done'] >= expected:
             outcome = 'completed'
             break
-        if proc.poll() is not None and not chunk:
+        if not reader.is_alive():
             break
         if time.monotonic() - started > limit:
             outcome = 'hang'
@@ -79,7 +80,7 @@ def run_once(launch, args, expected, limit):
     except subprocess.TimeoutExpired:
         os.killpg(proc.pid, signal.SIGKILL)
         proc.wait()
-    return outcome, wall, slow
+    return outcome, wall, counts['slow']
 
 
 def main():
