@@ -19,7 +19,6 @@ wall seconds per run (median and max).
 """
 import argparse
 import os
-import signal
 import statistics
 import subprocess
 import sys
@@ -28,7 +27,7 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from fleet_scale import free_port  # noqa: E402
+from fleet_scale import free_port, stop  # noqa: E402
 
 #: (name, launch file, arguments, summary lines expected)
 COURSES = (
@@ -74,12 +73,7 @@ def run_once(launch, args, expected, limit):
             break
         time.sleep(0.02)
     wall = time.monotonic() - started
-    os.killpg(proc.pid, signal.SIGINT)
-    try:
-        proc.wait(20)
-    except subprocess.TimeoutExpired:
-        os.killpg(proc.pid, signal.SIGKILL)
-        proc.wait()
+    stop(proc)
     return outcome, wall, counts['slow']
 
 

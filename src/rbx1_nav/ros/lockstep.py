@@ -16,11 +16,16 @@ import warnings
 import rospy
 from rosgraph_msgs.msg import Clock
 
-from rbx1_nav import lockstep
 from rbx1_nav.lockstep import (BACK, HANDLE, LOST_COMMANDS, REPEAT, RESEND,
                                SILENT, STALE, CommandLedger, Follower, Owner,
                                Report)
 from rbx1_nav.msg import LockstepGrant, LockstepReport
+
+# BACK and HANDLE: what Member.wait_grant returns, for its callers.
+__all__ = ['BACK', 'HANDLE', 'GRANT_TOPIC', 'REPORT_TOPIC', 'GRANT_LIMIT',
+           'STATE_LIMIT', 'FIRST_MEMBER', 'JoinError',
+           'Member', 'TimeOwner', 'enabled', 'from_ns', 'publish', 'sender',
+           'synchronous_publisher', 'to_ns']
 
 #: Global topics, like /clock: one owner of simulated time per master.
 GRANT_TOPIC = '/lockstep_grant'
