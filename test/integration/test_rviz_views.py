@@ -101,6 +101,9 @@ class Processes(object):
                     proc.wait()
 
 
+# One RViz at a time: two at once, on a loaded machine, aborted one of them
+# inside RViz ("free(): invalid next size") in two suite runs of five.
+@pytest.mark.xdist_group('rviz')
 @pytest.mark.parametrize('config', sorted(CASES))
 def test_rviz_draws_odometry_and_ground_truth(config, tmp_path):
     image_grab = pytest.importorskip('PIL.ImageGrab')
