@@ -257,10 +257,12 @@ def fmt(value, spec='%.1f'):
 
 
 def markdown(results):
+    measured = results.get('measured', {})
     out = ['# rbx1_nav bench', '',
-           'Machine: %d cores, load average %.1f at the end; %s. One run of '
-           '`make bench`; compare rows, not machines.' % (
-               os.cpu_count(), os.getloadavg()[0], time.strftime('%Y-%m-%d %H:%M')), '']
+           'Machine: %d cores, load average %.1f at the end; %s. Measured: %s. '
+           'Compare rows within a section, not machines.' % (
+               os.cpu_count(), os.getloadavg()[0], time.strftime('%Y-%m-%d %H:%M'),
+               ', '.join('%s %s' % kv for kv in sorted(measured.items())) or 'now'), '']
     if 'accuracy' in results:
         out += ['## Accuracy (lockstep at full speed, pose_ekf rows at %sx; final error '
                 'on ground truth)' % POSE_EKF_SPEED, '',
@@ -344,17 +346,25 @@ def main():
     parser.add_argument('--render', action='store_true',
                         help='only redo the table and plot from OUT/latest.json')
     args = parser.parse_args()
+    # The sections not run keep their figures from the last run (the
+    # table says when each was measured).
     results = {}
-    if args.render:
+    try:
         with open(os.path.join(args.out, 'latest.json')) as f:
             results = json.load(f)
+    except (OSError, ValueError):
+        pass
+    if args.render:
         args.sections = []
+    measured = results.setdefault('measured', {})
     if 'accuracy' in args.sections:
         results['accuracy'] = accuracy(args.runs)
     if 'speed' in args.sections:
         results['speed'] = speed()
     if 'scale' in args.sections:
         results['scale'] = scale(args.robots)
+    for section in args.sections:
+        measured[section] = time.strftime('%Y-%m-%d %H:%M')
     os.makedirs(args.out, exist_ok=True)
     table = markdown(results)
     with open(os.path.join(args.out, 'latest.md'), 'w') as f:

@@ -12,7 +12,7 @@ import os
 import pytest
 
 NORMAL_PRIORITY = {'free_running', 'two_hosts'}
-LOW_PRIORITY = 10
+LOW_PRIORITY = 5
 
 
 def _group(item):

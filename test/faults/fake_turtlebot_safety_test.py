@@ -109,7 +109,9 @@ class Safety(unittest.TestCase):
               '%.3f s (step %.3f s); %d warnings (allowed %d)' % (
                   sent, FLOOD, flooded, quiet, len(during), max(gaps), step,
                   len(flood_warnings), allowed))
-        self.assertGreater(sent, 0.8 * FLOOD * 1000)
+        # A flood: over ten commands per simulator step, however busy the
+        # machine keeps this sender from its 1 kHz.
+        self.assertGreater(sent / FLOOD, 10 * rospy.get_param(NODE + 'rate'))
         self.assertGreater(flooded, 0.5 * quiet)  # the simulation kept its pace
         self.assertLess(max(gaps), 1.5 * step)    # and published every step
         self.assertGreater(len(flood_warnings), 0)
