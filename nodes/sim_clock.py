@@ -60,9 +60,9 @@ def run_free(pacer):
 def run_lockstep(pacer, speed, idle_speed):
     """Own simulated time: each step goes to /clock, then to the members
     it is granted to, and the next starts once they have handled it."""
+    pacer.advance(time.monotonic())  # a first time after 0, which ROS reads as unset
     # At full speed nothing watches the wall clock between two ticks of a
     # motion node: the simulators step through their own grids alone.
-    pacer.advance(time.monotonic())  # a first time after 0, which ROS reads as unset
     owner = lockstep.TimeOwner(pacer.sim_ns, pacer.step_ns, batch=speed is None)
     # Time starts with its members: the simulators (and the nodes of an
     # earlier sim_clock, started again from further back) join first.

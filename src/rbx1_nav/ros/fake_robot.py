@@ -102,9 +102,10 @@ class RobotTopics:
         # lockstep each message is written before the step is reported, so
         # a motion node gets its tick's state without a queue thread's delay.
         queue = int(math.ceil(values['rate'] * MAX_CATCH_UP)) + 10
+        synchronous = lockstep.enabled()  # two parameters read once
 
         def publisher(name, msg_class, queue_size=queue):
-            if lockstep.enabled():
+            if synchronous:
                 return lockstep.synchronous_publisher(name, msg_class)
             return rospy.Publisher(name, msg_class, queue_size=queue_size)
 
