@@ -131,7 +131,7 @@ class Benchmark(object):
             elif k > 0 and v['run_pause'] > 0:
                 rospy.loginfo('%s starts in %.1f s', label, v['run_pause'])
                 rospy.sleep(v['run_pause'])
-            truth_start = self.truth and self.truth.latest()
+            truth_start = self.truth and self.truth.at(rospy.Time.now())
             course = umbmark.square_course(
                 v['side'], clockwise, v['linear_speed'], v['angular_speed'],
                 approach(dict(v, precise=True)), v['pause'], label)
@@ -141,7 +141,8 @@ class Benchmark(object):
             rospy.loginfo('%s: odometry says it stopped at (%+.1f, %+.1f) mm '
                           'from its start', label, 1000 * odom[0], 1000 * odom[1])
             if self.truth:
-                true = umbmark.relative(truth_start, self.truth.latest())
+                true = umbmark.relative(truth_start,
+                                        self.truth.at(rospy.Time.now()))
                 rospy.loginfo('%s: ground truth: (%+.1f, %+.1f) mm', label,
                               1000 * true[0], 1000 * true[1])
                 self.measured.append(true)

@@ -113,7 +113,7 @@ class CalibrationNode(object):
                       config['tolerance'], kind.unit, kind.correction,
                       config[kind.correction])
         if self.truth:
-            self.truth.start()
+            self.truth.start(rospy.Time.now())
         final = self.runner.run(course)
         self.odometry = calibration.measure(kind, course.start_pose, final,
                                             course.yaw_total)
@@ -121,7 +121,7 @@ class CalibrationNode(object):
         rospy.loginfo('%s: odometry says %.4f %s (tf %s -> %s, robot settled)',
                       self.name, self.odometry, kind.unit,
                       self.runner.odom_frame, self.runner.followed)
-        truth = self.truth.stop() if self.truth else None
+        truth = self.truth.stop(rospy.Time.now()) if self.truth else None
         if truth is not None:
             self.report(truth.value(kind), 'ground truth on %s'
                         % self.truth.topic)
