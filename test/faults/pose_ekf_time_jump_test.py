@@ -61,6 +61,7 @@ class TimeJumpTest(unittest.TestCase):
     def test_time_moving_backwards_restarts_the_filter_at_once(self):
         jump = float(rospy.get_param('~jump'))
         within = float(rospy.get_param('~resume_within'))
+        speed = float(rospy.get_param('~speed'))
         ekf_node = rospy.get_param('~ekf_node')
         odom_ekf_node = rospy.get_param('~odom_ekf_node')
         log = RosoutWatch()
@@ -76,7 +77,7 @@ class TimeJumpTest(unittest.TestCase):
         new_clock = before - jump / 2  # stamps below this are the new clock's
         clock = subprocess.Popen(
             ['rosrun', 'rbx1_nav', 'sim_clock.py', '__name:=sim_clock',
-             '_speed:=5', '_start_time:=%.3f' % back_to],
+             '_speed:=%g' % speed, '_start_time:=%.3f' % back_to],
             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         try:
             # Wait a simulated second past the allowance, so a late restart
