@@ -18,7 +18,7 @@ DEB_PACKAGES := catkin ros-cmake-modules python3-catkin-pkg python3-setuptools \
   rviz xvfb catkin-lint python3-pytest python3-hypothesis python3-numpy \
   python3-matplotlib python3-pil python3-std-srvs python3-dynamic-reconfigure python3-pytest-xdist \
   ros-message-generation ros-message-runtime python3-genpy python3-gencpp \
-  libdynamic-reconfigure-config-init-mutex-dev
+  libdynamic-reconfigure-config-init-mutex-dev python3-venv
 SUDO := $(if $(filter 0,$(shell id -u)),,sudo)
 
 .PHONY: deps build test unit lint demo bench clean
@@ -45,8 +45,16 @@ build: deps
 	  || { tail -40 $(WS)/build.log; exit 1; }
 	@echo "build: workspace $(WS) ready; use it with: source $(WS)/devel/setup.bash"
 
-lint: build
+# Tools from PyPI that Debian does not package, in a venv beside the workspace.
+VENV := $(WS)/venv
+VERMIN := vermin==1.9.2
+$(VENV)/.$(VERMIN):
+	@python3 -m venv $(VENV) && $(VENV)/bin/pip install -q '$(VERMIN)' && touch '$@'
+
+# ROS Noetic runs Python 3.8: nothing newer anywhere (vermin fails on it).
+lint: build $(VENV)/.$(VERMIN)
 	$(ROS) catkin_lint -W2 --strict $(WS)/src/rbx1_nav
+	$(VENV)/bin/vermin --target=3.8- --violations --no-tips nodes src bench test cfg/*.cfg setup.py
 
 # Unit tests (pytest, no master), every test/*.test through rostest, and the
 # fault suite, in one pytest run of three workers on the two cores: the

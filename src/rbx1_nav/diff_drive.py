@@ -262,7 +262,7 @@ class DiffDriveFleet:
         # Per robot: (executable at, v, w) in arrival order.
         self._pending = [deque() for _ in range(size)]
         self._cmd = np.zeros((size, 2))
-        self._cmd_time = np.full(size, np.nan)  # when the executing command became due
+        self._cmd_time = np.full(size, -np.inf)  # when the executing command became due
         self._time = None
         self.timed_out = np.zeros(size, dtype=bool)  # True while the watchdog holds a base
         self.truth = np.zeros((size, 3))
@@ -308,7 +308,7 @@ class DiffDriveFleet:
             if self._time is not None:  # restarted clock: forget old commands
                 for queue in self._pending:
                     queue.clear()
-                self._cmd_time[:] = np.nan
+                self._cmd_time[:] = -np.inf
             self._time = now
             return False
         dt = now - self._time
@@ -329,8 +329,8 @@ class DiffDriveFleet:
             while queue and queue[0][0] <= now:
                 self._cmd_time[robot], v, w = queue.popleft()
                 self._cmd[robot] = (v, w)
-        # A robot that never had a command (NaN time) is timed out too.
-        self.timed_out = ~(now - self._cmd_time <= cfg.cmd_timeout)
+        # A robot that never had a command (time -inf) is timed out too.
+        self.timed_out = now - self._cmd_time > cfg.cmd_timeout
         target = np.where(self.timed_out[:, None], 0.0, self._cmd)
         return (_approach(self.velocity[:, 0], target[:, 0],
                           _max_change(cfg.accel_limit_linear, dt)),

@@ -410,6 +410,7 @@ class InFlight(object):
 
     def __init__(self, memory=20):
         self.sent = []  # (time sent, Command), oldest first
+        self.times = []  # the times of self.sent, for bisect
         self.ages = deque(maxlen=memory)
 
     @property
@@ -424,13 +425,14 @@ class InFlight(object):
     def record(self, now, command):
         """The command sent at ``now`` (s)."""
         self.sent.append((now, command))
-        while len(self.sent) > 1 and self.sent[1][0] < now - self.KEEP:
-            del self.sent[0]
+        self.times.append(now)
+        while len(self.sent) > 1 and self.times[1] < now - self.KEEP:
+            del self.sent[0], self.times[0]
 
     def command_at(self, when):
         """The command the robot runs at ``when`` (s): the last one sent
         by ``when - delay``; STOP before the first."""
-        ran = bisect.bisect_right(self.sent, when - self.delay, key=lambda s: s[0])
+        ran = bisect.bisect_right(self.times, when - self.delay)
         return self.sent[ran - 1][1] if ran else STOP
 
     def predict(self, pose, now, age):

@@ -10,7 +10,10 @@ from hypothesis import configuration, settings
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', '..', 'src'))
 
-settings.register_profile('rbx1_nav', database=None)
+# The same examples on every run (derandomize), and no per-example time
+# limit: the suite runs beside other work, and speed belongs in bench/.
+settings.register_profile('rbx1_nav', database=None, derandomize=True,
+                          deadline=None)
 settings.load_profile('rbx1_nav')
 # Hypothesis also caches Unicode tables in its storage directory.
 configuration.set_hypothesis_home_dir(
