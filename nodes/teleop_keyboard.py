@@ -33,6 +33,7 @@ from geometry_msgs.msg import Twist
 
 from rbx1_nav import params
 from rbx1_nav.ros.node import exit_if_help
+from rbx1_nav.ros.publishers import watch_publishers
 from rbx1_nav.teleop import (PARAMS, QUIT_KEYS, STOP, KeyboardTeleop,
                              check_settings, help_text)
 
@@ -180,6 +181,8 @@ def main():
     signal.signal(signal.SIGHUP, lambda signum, frame: rospy.signal_shutdown(
         'terminal closed'))
     node = TeleopKeyboard(settings)
+    watch_publishers('teleop_keyboard', [node.cmd_vel.resolved_name],
+                     own=rospy.get_name())
     keyboard = Keyboard(0)
     try:
         print(help_text(settings['key_timeout']))

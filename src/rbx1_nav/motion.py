@@ -578,6 +578,14 @@ class Course(object):
         self.in_flight.record(now, command)
         return command
 
+    def hold(self, now):
+        """STOP at ``now`` (s) without a pose: the transform is stale (a
+        link dropout). Recorded like any command, so predictions and the
+        stall count know the robot was told to stand still."""
+        self._now = float(now)
+        self.in_flight.record(self._now, STOP)
+        return STOP
+
     def settled(self, sent, settle, longest):
         """True once the pose steered by is stamped ``settle`` s after the
         robot ran the command sent at ``sent`` (s) and after the last motion

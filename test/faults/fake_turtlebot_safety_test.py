@@ -4,12 +4,15 @@
 Speeds of 1e9 are clamped to the limits; a NaN or infinite command is taken
 as a stop (well before the watchdog would act); a 1 kHz flood of such
 commands neither slows the simulation nor floods the log; no input ever
-makes the published pose non-finite. Limits are read from the node's
-parameters.
+makes the published pose non-finite. With a node left publishing on
+cmd_vel (left_running, started for the flood), the flooding test node is
+a second publisher: the robot names both, once. Limits are read from the
+node's parameters.
 """
 import itertools
 import math
 import os
+import subprocess
 import sys
 import time
 import unittest
@@ -75,12 +78,22 @@ class Safety(unittest.TestCase):
             self.assertLess(stopped - sent_bad, self.stop_within, bad)
             self.assertLess(self.stop_within, self.timeout)
 
-    def test_3_a_1khz_flood_holds_the_rate_and_throttles_the_warnings(self):
+    def test_3_a_1khz_flood_from_a_second_node_keeps_the_rate_and_is_named(self):
         warnings = []
         rospy.Subscriber('/rosout', Log, lambda m: m.name == '/fake_turtlebot'
                          and m.level >= Log.WARN and warnings.append(m), queue_size=10000)
         pub = rospy.Publisher('cmd_vel', Twist, queue_size=1000, tcp_nodelay=True)
         self.assertTrue(wait_for(lambda: pub.get_num_connections() > 0, 30.0, wall=True))
+        left = subprocess.Popen(['rosrun', 'rostopic', 'rostopic', 'pub', '-r', '10',
+                                 'cmd_vel', 'geometry_msgs/Twist', '{}',
+                                 '__name:=left_running'])
+        try:
+            self._flood(pub, warnings)
+        finally:
+            left.terminate()
+            left.wait()
+
+    def _flood(self, pub, warnings):
         bad = itertools.cycle([(NAN, 0.0), (0.1, INF), (1e9, -1e9), (-INF, NAN), (0.1, 0.0)])
 
         def window(send):
@@ -101,7 +114,9 @@ class Safety(unittest.TestCase):
         during = [t for t in stamps if began <= t <= began + flooded]
         gaps = [b - a for a, b in zip(during, during[1:])]
         step = 1.0 / rospy.get_param(NODE + 'rate')
-        flood_warnings = [m for m in warnings if m.header.stamp.to_sec() >= began]
+        publishers = [m for m in warnings if 'nodes publish on' in m.msg]
+        flood_warnings = [m for m in warnings if m.header.stamp.to_sec() >= began
+                          and m not in publishers]
         # Each kind (non-finite, clamped) at most once a WARN_PERIOD of ROS time.
         allowed = 2 * (math.ceil(flooded / WARN_PERIOD) + 1)
         print('RESULT 1 kHz flood: %d commands in %.1f s; simulated time advanced %.2f s '
@@ -117,6 +132,15 @@ class Safety(unittest.TestCase):
         self.assertGreater(len(flood_warnings), 0)
         self.assertLessEqual(len(flood_warnings), allowed,
                              [m.msg for m in flood_warnings])
+        # The robot names the two publishers once, within its look at the
+        # master every few seconds (wall time).
+        self.assertTrue(wait_for(lambda: any('nodes publish on' in m.msg for m in warnings),
+                                 10.0, wall=True), [m.msg for m in warnings])
+        named = [m.msg for m in warnings if 'nodes publish on' in m.msg]
+        print('RESULT second publisher: %s' % named)
+        self.assertEqual(len(named), 1, named)
+        self.assertIn(rospy.get_name(), named[0])
+        self.assertIn('/left_running', named[0])
 
     def test_4_pose_stays_finite_and_node_keeps_running(self):
         last = rospy.Time.now().to_sec()

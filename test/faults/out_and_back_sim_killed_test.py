@@ -4,8 +4,9 @@
 Run by out_and_back_sim_killed.test. Once the robot is well into its first
 leg the test kills the fake robot (the clock keeps running). The tf then
 goes stale; within ~tf_timeout + 1 s (ROS time) of the simulator's last
-message the node must have sent a stop and logged the error, and it must
-then exit with status 1. The deadline is checked on ROS time stamps (the
+message the node must hold the robot (zero velocity) and say so, within
+~tf_timeout + ~link_grace + 1 s it must have sent its last stop and logged
+the error, and it must then exit with status 1. The deadline is checked on ROS time stamps (the
 stop's arrival, the error's /rosout stamp): rospy's own teardown after
 that takes a fixed ~0.6 s of wall time, which at 5x would be 3 simulated
 seconds and says nothing about the node's reaction.
@@ -27,10 +28,12 @@ class SimKilledTest(unittest.TestCase):
 
     def test_stale_tf_stops_the_course(self):
         tf_timeout = float(rospy.get_param('~tf_timeout'))
+        grace = float(rospy.get_param('~link_grace'))
         watch = RobotWatch()
         rosout = RosoutWatch()
         start = watch.wait_for_truth()
-        course = CourseProcess(params={'tf_timeout': tf_timeout})
+        course = CourseProcess(params={'tf_timeout': tf_timeout,
+                                       'link_grace': grace})
         try:
             wait_under_way(self, watch, start, course)
             subprocess.check_call(['rosnode', 'kill', '/fake_turtlebot'])
@@ -39,20 +42,24 @@ class SimKilledTest(unittest.TestCase):
             course.cleanup()
         out = course.output
         last_truth = watch.truth.header.stamp
-        error_at = rosout.stamp_of(course.node_name, 'has not been updated')
+        held_at = rosout.stamp_of(course.node_name, 'Holding the robot')
+        error_at = rosout.stamp_of(course.node_name, 'Stopped the robot')
+        self.assertIsNotNone(held_at, out)
         self.assertIsNotNone(error_at, out)
         stop_at, last = watch.last_command()
-        print('RESULT sim_killed exit=%d; after the last ground_truth: error '
-              'logged at +%.2f s, last (zero) cmd_vel at +%.2f s, process gone '
-              'at +%.2f s (ROS time)' % (
-                  status, (error_at - last_truth).to_sec(),
+        print('RESULT sim_killed exit=%d; after the last ground_truth: robot '
+              'held at +%.2f s, error logged at +%.2f s, last (zero) cmd_vel '
+              'at +%.2f s, process gone at +%.2f s (ROS time)' % (
+                  status, (held_at - last_truth).to_sec(),
+                  (error_at - last_truth).to_sec(),
                   (stop_at - last_truth).to_sec(),
                   (course.exit_time - last_truth).to_sec()))
         self.assertEqual(status, 1, out)
         self.assertTrue(is_zero(last), 'last cmd_vel was %s' % last)
         self.assertGreater(stop_at, last_truth, 'no stop sent after the sim died')
-        self.assertLess((error_at - last_truth).to_sec(), tf_timeout + 1.0, out)
-        self.assertLess((stop_at - last_truth).to_sec(), tf_timeout + 1.0, out)
+        self.assertLess((held_at - last_truth).to_sec(), tf_timeout + 1.0, out)
+        self.assertLess((error_at - last_truth).to_sec(), tf_timeout + grace + 1.0, out)
+        self.assertLess((stop_at - last_truth).to_sec(), tf_timeout + grace + 1.0, out)
 
 if __name__ == '__main__':
     rospy.init_node('out_and_back_sim_killed_test')

@@ -22,6 +22,7 @@ from rbx1_nav.fake_robot import (GPS_UNKNOWN_VARIANCE, MAX_CATCH_UP,
                                  WARN_PERIOD)
 from rbx1_nav.input_check import time_moved_back_text
 from rbx1_nav.ros import lockstep
+from rbx1_nav.ros.publishers import watch_publishers
 from rbx1_nav.throttle import Throttle
 from rbx1_nav.transform_utils import strip_leading_slash, yaw_to_quaternion
 
@@ -257,6 +258,7 @@ def spin_simulator(rate, step, robots, log_name):
     s, until shutdown: under lockstep as a simulator member (every step
     granted to it, its robots' commands counted), otherwise on whatever ROS
     time does. ``robots`` are the RobotTopics it steps."""
+    watch_publishers(log_name, [robot.cmd_sub.resolved_name for robot in robots])
     if lockstep.enabled():
         spin_lockstep(rate, step, robots, log_name)
     else:

@@ -8,10 +8,12 @@ how to build its course (a rbx1_nav.motion.Course) from their values;
 course, publishes its commands on ``cmd_vel``, and logs a summary line.
 
 Safety, for every node that uses it: a zero Twist goes out on every exit
-path (success, Ctrl-C, ``rosnode kill``, any exception); the course aborts,
-robot stopped, when the transform stops updating for ``~tf_timeout`` or
-when ``/clock`` stops under simulated time. Exit status 0 only after a
-completed course.
+path (success, Ctrl-C, ``rosnode kill``, any exception). When the
+transform stops updating for ``~tf_timeout`` the robot is commanded zero
+and the course waits up to ``~link_grace`` more for it (a Wi-Fi dropout,
+rbx1_nav.dropouts), then carries on from the pose tf gives; past that, or
+when ``/clock`` stops under simulated time, it aborts, robot stopped.
+Exit status 0 only after a completed course.
 
 Under lockstep simulated time (rbx1_nav.lockstep) the node is a member
 while it drives: sim_clock grants it each control tick, at which the
@@ -35,11 +37,13 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 
 from rbx1_nav import params
+from rbx1_nav.dropouts import HOLD, LOST, Dropouts
 from rbx1_nav.input_check import time_moved_back_text
 from rbx1_nav.motion import control_rates, pose_error
 from rbx1_nav.params import param
 from rbx1_nav.ros import lockstep
 from rbx1_nav.ros.node import start_node, wait_for_clock
+from rbx1_nav.ros.publishers import watch_publishers
 from rbx1_nav.transform_utils import Pose2D, normalize_angle, quat_to_angle
 
 BASE_FRAME_CANDIDATES = ('base_footprint', 'base_link')
@@ -60,7 +64,11 @@ def common_params(rate):
               'wait this long for /clock, the first transform and a cmd_vel '
               'subscriber', **params.POSITIVE),
         param('tf_timeout', 1.0, params.number, 's',
-              'abort when the transform is older than this', **params.POSITIVE),
+              'stop the robot when the transform is older than this',
+              **params.POSITIVE),
+        param('link_grace', 3.0, params.number, 's',
+              'then wait this much longer for it (a Wi-Fi dropout) before '
+              'giving up', minimum=0.0, maximum=600.0),
         param('max_tf_age', 0.1, params.number, 's',
               'warn when the transform steered by is older than this '
               '(a slow link to the robot)', **params.POSITIVE),
@@ -150,6 +158,7 @@ class MotionRunner(object):
         self.simulator = None
         self.granted = set()
         self.state_wait = lockstep.STATE_LIMIT
+        self.dropouts = None  # the transform's, in the course driven last
 
     def _on_odom(self, msg):
         twist = msg.twist.twist
@@ -286,6 +295,8 @@ class MotionRunner(object):
             self.wait_for_clock()
             self.watch_clock()
             self.watch_master()
+            watch_publishers(self.name, [self.cmd_vel.resolved_name],
+                             own=rospy.get_name())
             self._clock_ready = True
 
     def find_base_frame(self):
@@ -406,8 +417,9 @@ class MotionRunner(object):
 
     def _drive(self, course):
         """The control loop of :meth:`run`."""
-        timeout = rospy.Duration(self.settings['tf_timeout'])
         blind = self.followed is None
+        self.dropouts = Dropouts(self.settings['tf_timeout'],
+                                 self.settings['link_grace'])
         pose = Pose2D(0.0, 0.0, 0.0) if blind else None
         last_stamp = fresh_at = None
         self.tick_times = []
@@ -420,14 +432,9 @@ class MotionRunner(object):
                                         or reading[1] > last_stamp):
                 pose, last_stamp = reading
                 fresh_at = now
-            elif not blind and now - fresh_at > timeout:
-                self.stop()
-                raise CourseAborted(
-                    'tf %s -> %s has not been updated for %.2f s (limit '
-                    '~tf_timeout %.2f s): robot driver or simulator gone? '
-                    'Stopped the robot.' % (
-                        self.odom_frame, self.followed,
-                        (now - fresh_at).to_sec(), timeout.to_sec()))
+            if not blind and self._held(now, fresh_at):
+                self.publish(course.hold(now.to_sec()))
+                continue
             if pose is None:  # found a moment ago; lookups may lag a cycle
                 continue
             age = 0.0 if blind else (now - last_stamp).to_sec()
@@ -445,6 +452,29 @@ class MotionRunner(object):
         self._check_stalls(course)
         course.stalls.end(self.tick_times[-1])
         return None if blind else pose
+
+    def _held(self, now, fresh_at):
+        """Ride out a stale transform (rbx1_nav.dropouts): True while the
+        robot is to be held (commanded zero); CourseAborted past
+        ~link_grace."""
+        tick = self.dropouts.tick(now.to_sec(), fresh_at.to_sec())
+        where = 'tf %s -> %s' % (self.odom_frame, self.followed)
+        if tick.state == LOST:
+            self.stop()
+            raise CourseAborted(
+                '%s has not been updated for %.2f s (limit ~tf_timeout %.2f s '
+                '+ ~link_grace %.2f s): robot driver or simulator gone, or the '
+                'link to the robot down? Stopped the robot.' % (
+                    where, tick.stale, self.dropouts.timeout, self.dropouts.grace))
+        if tick.began:
+            rospy.logwarn('%s: %s has not been updated for %.2f s (~tf_timeout): '
+                          'a link dropout? Holding the robot (zero velocity) and '
+                          'waiting up to ~link_grace %.1f s for it', self.name,
+                          where, tick.stale, self.dropouts.grace)
+        elif tick.ended is not None:
+            rospy.loginfo('%s: %s is back after %.2f s; carrying on from where '
+                          'it says the robot is', self.name, where, tick.ended)
+        return tick.state == HOLD
 
     def _check_age(self, age, predicts):
         """Warn (at most every WARN_PERIOD s) when the transform steered
@@ -533,10 +563,12 @@ class MotionRunner(object):
             held = ('%d times, %.1f s in all (its watchdog, or commands '
                     'late)' % (stalls.count, stalls.seconds)
                     if stalls.count else 'never')
+        dropouts = self.dropouts.summary()
         if final is None:
             rospy.loginfo('Course complete in %.1f s (no odometry: final pose '
-                          'unknown); stood still while commanded: %s',
-                          course.elapsed, held)
+                          'unknown); stood still while commanded: %s; link '
+                          'dropouts ridden out: %s', course.elapsed, held,
+                          dropouts)
             return
         start = course.start_pose
         error, heading = pose_error(final, course.ideal_end(start))
@@ -544,12 +576,13 @@ class MotionRunner(object):
             'Course complete in %.1f s: final pose relative to start in %s: '
             'dx %+.1f mm, dy %+.1f mm, dyaw %+.2f deg; error from the ideal '
             'end pose: position %.1f mm, heading %+.2f deg; control loop '
-            '%.1f Hz mean, %d Hz slowest second; stood still while commanded: %s',
+            '%.1f Hz mean, %d Hz slowest second; stood still while commanded: '
+            '%s; link dropouts ridden out: %s',
             course.elapsed, self.odom_frame, 1000.0 * (final.x - start.x),
             1000.0 * (final.y - start.y),
             math.degrees(normalize_angle(final.yaw - start.yaw)),
             1000.0 * error, math.degrees(heading),
-            *control_rates(self.tick_times), held)
+            *control_rates(self.tick_times), held, dropouts)
 
 
 def guarded(name, runner, work):
