@@ -18,7 +18,9 @@ out-of-order or repeated poses, NaN or absurd values and negative variances
 are dropped, with one warning per kind every 10 s that counts them, so the
 output's stamps only move forward. Should ROS time move backwards (a bag
 looping, a simulator restarted) the node says so and takes the poses of the
-new clock.
+new clock. Should the ROS master restart, the node says so within a few
+seconds and registers its topics with the new master, so RViz and new
+nodes find them again (rbx1_nav.ros.master); its connections go on.
 """
 import rospy
 from geometry_msgs.msg import PoseWithCovarianceStamped
@@ -27,6 +29,7 @@ from nav_msgs.msg import Odometry
 from rbx1_nav.input_check import RejectedInput, time_moved_back_text
 from rbx1_nav.odom_ekf import SENSOR, PoseToOdometry
 from rbx1_nav.params import POSITIVE, flag, frame, number, param
+from rbx1_nav.ros.master import MasterWatch, reregister_node
 from rbx1_nav.ros.node import start_node
 
 PARAMS = (
@@ -74,6 +77,8 @@ def main():
     values = start_node('odom_ekf', PARAMS, __doc__)
     if values is None:
         raise SystemExit(1)
+    MasterWatch('odom_ekf', on_restarted=lambda uri: reregister_node(
+        'odom_ekf', uri)).start()
     OdomEkfNode(values)
     rospy.spin()
 

@@ -29,6 +29,9 @@ and kind every 10 s that counts them, so the output's stamps only move
 forward. Should the estimate ever stop being finite the filter restarts
 instead of publishing it; should ROS time move backwards (a bag looping,
 a simulator restarted) it says so and restarts from the next readings.
+Should the ROS master restart, the node says so within a few seconds and
+registers its topics, tf and service with the new master, so RViz and new
+nodes find them again (rbx1_nav.ros.master); its connections go on.
 """
 import threading
 
@@ -48,6 +51,7 @@ from rbx1_nav.pose_ekf import (GyroOdomFusion, OtherPublisherWatch,
                                covariance_6x6, is_finite_estimate,
                                other_publisher_text, pose_covariance_3x3,
                                position_covariance_2x2, silent_sensor_text)
+from rbx1_nav.ros.master import MasterWatch, reregister_node
 from rbx1_nav.ros.node import start_node, until_shutdown
 from rbx1_nav.transform_utils import quat_to_angle, yaw_to_quaternion
 
@@ -307,6 +311,8 @@ def main():
     values = start_node('robot_pose_ekf', PARAMS, __doc__)
     if values is None:
         raise SystemExit(1)
+    MasterWatch('pose_ekf', on_restarted=lambda uri: reregister_node(
+        'pose_ekf', uri)).start()
     try:
         node = PoseEkfNode(values)
     except ValueError as err:

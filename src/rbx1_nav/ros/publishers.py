@@ -5,26 +5,15 @@ start and every PERIOD s of wall time, from a daemon thread, over an
 XML-RPC connection with a timeout: with the master unreachable it says
 nothing new and blocks nothing.
 """
-import socket
 import threading
-import xmlrpc.client
 
 import rosgraph
 import rospy
 
 from rbx1_nav.publishers import NewPublishers, warning_text
+from rbx1_nav.ros.master import proxy
 
 PERIOD = 3.0  # wall s between looks at the master
-TIMEOUT = 2.0  # wall s for the master to answer
-
-
-class _Transport(xmlrpc.client.Transport):
-    """XML-RPC over HTTP with a socket timeout (rospy's has none)."""
-
-    def make_connection(self, host):
-        connection = super(_Transport, self).make_connection(host)
-        connection.timeout = TIMEOUT
-        return connection
 
 
 def topic_publishers(master, topics):
@@ -32,7 +21,7 @@ def topic_publishers(master, topics):
     None when the master cannot tell (unreachable, an error)."""
     try:
         code, _, state = master.getSystemState(rospy.get_name())
-    except (OSError, socket.timeout, xmlrpc.client.Error):
+    except Exception:  # refused, timed out, a bad reply
         return None
     if code != 1:
         return None
@@ -48,8 +37,7 @@ def watch_publishers(name, topics, own=None):
     checks = {topic: NewPublishers(own) for topic in topics}
 
     def watch():
-        master = xmlrpc.client.ServerProxy(rosgraph.get_master_uri(),
-                                           transport=_Transport())
+        master = proxy(rosgraph.get_master_uri())
         while not rospy.core.is_shutdown():
             listed = topic_publishers(master, topics) or {}
             for topic, publishers in sorted(listed.items()):

@@ -24,10 +24,8 @@ than for the robot.
 """
 import collections
 import math
-import socket
 import threading
 import time
-import urllib.parse
 
 import rosgraph
 import rospy
@@ -42,13 +40,13 @@ from rbx1_nav.input_check import time_moved_back_text
 from rbx1_nav.motion import control_rates, pose_error
 from rbx1_nav.params import param
 from rbx1_nav.ros import lockstep
+from rbx1_nav.ros.master import MasterWatch, gone_text, restarted_text
 from rbx1_nav.ros.node import start_node, wait_for_clock
 from rbx1_nav.ros.publishers import watch_publishers
 from rbx1_nav.transform_utils import Pose2D, normalize_angle, quat_to_angle
 
 BASE_FRAME_CANDIDATES = ('base_footprint', 'base_link')
 WARN_PERIOD = 10.0  # s between warnings about an old transform or a stall
-MASTER_CHECKS = 3  # failed connections in a row before the master is gone
 
 
 def common_params(rate):
@@ -66,7 +64,7 @@ def common_params(rate):
         param('tf_timeout', 1.0, params.number, 's',
               'stop the robot when the transform is older than this',
               **params.POSITIVE),
-        param('link_grace', 3.0, params.number, 's',
+        param('link_grace', 5.0, params.number, 's',
               'then wait this much longer for it (a Wi-Fi dropout) before '
               'giving up', minimum=0.0, maximum=600.0),
         param('max_tf_age', 0.1, params.number, 's',
@@ -252,42 +250,19 @@ class MotionRunner(object):
         threading.Thread(target=watch, name='clock_watchdog', daemon=True).start()
 
     def watch_master(self):
-        """Say once when the master becomes unreachable, and when it is back.
-
-        ROS 1's topic connections are peer to peer and outlive the master,
-        so the course goes on; but nothing new can connect. The check is a
-        TCP connect with a timeout, in a thread of its own, so no master
-        call can block the control loop; it must fail MASTER_CHECKS times
-        in a row, so a lossy link does not make the warning come and go.
-        """
-        uri = rosgraph.get_master_uri()
-        address = urllib.parse.urlsplit(uri)
-
-        def reachable():
-            try:
-                socket.create_connection((address.hostname, address.port or 11311),
-                                         timeout=2.0).close()
-                return None
-            except OSError as err:
-                return err.strerror or str(err)
-
-        def watch():
-            failures, gone = 0, False
-            while not rospy.is_shutdown():
-                rospy.rostime.wallsleep(1.0)
-                problem = reachable()
-                failures = failures + 1 if problem else 0
-                if failures == MASTER_CHECKS:
-                    gone = True
-                    rospy.logwarn('%s: the ROS master at %s is unreachable (%s): '
-                                  'the course goes on over the connections it has, '
-                                  'but no node or topic can join until it is back',
-                                  self.name, uri, problem)
-                elif gone and not problem:
-                    gone = False
-                    rospy.loginfo('%s: the ROS master at %s is back', self.name, uri)
-
-        threading.Thread(target=watch, name='master_watch', daemon=True).start()
+        """Say once when the master becomes unreachable, when it is back,
+        and when it restarted (rbx1_nav.ros.master: polled from a thread of
+        its own with a timeout, so no master call can block the control
+        loop; gone only after a few failed polls in a row, so a lossy link
+        does not make the warning come and go). ROS 1's topic connections
+        are peer to peer and outlive the master, so the course goes on."""
+        name = self.name
+        MasterWatch(name, on_gone=lambda uri, problem: rospy.logwarn(
+            gone_text(name, uri, problem)),
+            on_back=lambda uri: rospy.loginfo('%s: the ROS master at %s is '
+                                              'back', name, uri),
+            on_restarted=lambda uri: rospy.logwarn(restarted_text(name, uri))
+        ).start()
 
     def start(self):
         """Wait for the clock and start the watchdogs (once per node)."""

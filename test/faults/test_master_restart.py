@@ -1,0 +1,215 @@
+"""The ROS master restarts under a running pose_ekf and odom_ekf.
+
+rospy registers a node's topics with the master once; a restarted roscore
+knows none of them, though the connections already made go on. pose_ekf
+and odom_ekf notice the new master (rbx1_nav.ros.master) and register
+again. The fake robot does not: its odometry reaches pose_ekf only over
+the connection made before the restart, which re-registering must keep.
+The test kills roscore, starts a new one on the same port, and checks
+that both nodes say so, that new subscribers (what RViz would be) get
+their topics, and that a subscriber from before the restart was never
+held up. It prints the seconds it measured.
+"""
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import threading
+import time
+from xmlrpc.server import SimpleXMLRPCServer
+
+import pytest
+import rosgraph
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import link  # noqa: E402
+from test_two_hosts import Lines  # noqa: E402
+
+
+PORTS = range(11450, 11471)
+DETECT_LIMIT = 5.0  # s from the new master answering to the nodes' warning
+SUBSCRIBE_LIMIT = 10.0  # s for a new subscriber to get a message
+GAP_LIMIT = 1.5  # s, longest pause of a running subscriber's stream
+RESTARTED = 'ROS master at .* restarted'
+POSE = '/robot_pose_ekf/odom_combined'
+
+
+def free_port():
+    for port in PORTS:
+        with socket.socket() as s:
+            try:
+                s.bind(('', port))
+            except OSError:
+                continue
+            return port
+    pytest.skip('no free port in %d-%d' % (PORTS[0], PORTS[-1]))
+
+
+class Graph(object):
+    """Processes on one master; every one killed, with its children, at
+    the end."""
+
+    def __init__(self, port, logdir):
+        self.uri = 'http://localhost:%d' % port
+        self.port = port
+        self.env = dict(os.environ, ROS_MASTER_URI=self.uri, PYTHONUNBUFFERED='1',
+                        ROS_LOG_DIR=str(logdir))
+        self.procs = []
+
+    def start(self, argv):
+        proc = subprocess.Popen(argv, env=self.env, stdout=subprocess.PIPE,
+                                stderr=subprocess.STDOUT, universal_newlines=True,
+                                start_new_session=True)
+        self.procs.append(proc)
+        return Lines(proc)
+
+    def start_master(self):
+        core = self.start(['roscore', '-p', str(self.port)])
+        deadline = time.monotonic() + 30
+        while not rosgraph.is_master_online(self.uri):
+            assert core.proc.poll() is None and time.monotonic() < deadline, \
+                'roscore did not start:\n' + core.text()
+            time.sleep(0.02)
+        return core, time.monotonic()
+
+    def close(self):
+        for proc in reversed(self.procs):
+            link.kill_tree(proc.pid)
+            proc.wait()
+
+
+@pytest.fixture
+def graph(tmp_path):
+    made = Graph(free_port(), tmp_path)
+    try:
+        yield made
+    finally:
+        made.close()
+
+
+def first_message(graph, topics, limit):
+    """Seconds until a new ``rostopic echo -n 1`` of each topic printed a
+    message (all at once), None for those that got none in ``limit`` s."""
+    start = time.monotonic()
+    echoes = {topic: graph.start(['rostopic', 'echo', '-n', '1', topic + '/header/seq'])
+              for topic in topics}
+    deadline = start + limit
+    while time.monotonic() < deadline and not all(
+            echo.first(r'^\d+$') for echo in echoes.values()):
+        time.sleep(0.02)
+    got = {topic: echo.first(r'^\d+$') for topic, echo in echoes.items()}
+    return {topic: found[0] - start if found else None for topic, found in got.items()}
+
+
+# Wall-clock bound: one at a time, with the two-host tests.
+@pytest.mark.xdist_group('two_hosts')
+@pytest.mark.skipif(shutil.which('roscore') is None,
+                    reason='no roscore: source a ROS workspace')
+def test_pose_ekf_and_odom_ekf_re_register_with_a_restarted_master(graph):
+    core, _ = graph.start_master()
+    graph.start(['rosrun', 'rbx1_nav', 'fake_turtlebot.py', '_publish_tf:=false'])
+    ekfs = {'pose_ekf': graph.start(['rosrun', 'rbx1_nav', 'pose_ekf.py']),
+            'odom_ekf': graph.start(['rosrun', 'rbx1_nav', 'odom_ekf.py',
+                                     'input:=' + POSE, 'output:=odom_ekf'])}
+    # A subscriber from before the restart: its stream must not stop.
+    old = graph.start(['rostopic', 'echo', '-p', '/odom_ekf/header/seq'])
+    old.wait_for(r'^\d+,\d+$', 30)
+
+    link.kill_tree(core.proc.pid)  # roscore, its master and rosout
+    core.proc.wait()
+    killed = time.monotonic()
+    time.sleep(0.5)
+    _, up = graph.start_master()
+    warned = {}
+    for name, lines in ekfs.items():
+        found = lines.first(RESTARTED) or lines.wait_for(
+            RESTARTED, max(0.0, up + DETECT_LIMIT - time.monotonic()))
+        assert found[0] > killed, lines.text()
+        warned[name] = found[0] - up
+        lines.wait_for('re-registered', 5)
+    new = first_message(graph, [POSE, '/odom_ekf'], SUBSCRIBE_LIMIT)
+
+    state = rosgraph.Master('/test_master_restart', master_uri=graph.uri).getSystemState()
+    publishers, subscribers, services = (dict(kind) for kind in state)
+    # The running subscriber's messages from the last one before the kill.
+    rows = [when for when, line in old.lines]
+    rows = rows[max(0, sum(when <= killed for when in rows) - 1):]
+    gap = max((b - a for a, b in zip(rows, rows[1:])), default=0.0)
+    print('RESULT master restart: the new master answered %.2f s after the kill; '
+          'restart warning from pose_ekf %.2f s and odom_ekf %.2f s after it '
+          '(limit %.0f s); new subscribers got their first message: %s (limit '
+          '%.0f s); a subscriber from before the restart: longest gap %.2f s'
+          % (up - killed, warned['pose_ekf'], warned['odom_ekf'], DETECT_LIMIT,
+             ', '.join('%s after %s' % (topic, 'never' if s is None else '%.2f s' % s)
+                       for topic, s in sorted(new.items())),
+             SUBSCRIBE_LIMIT, gap))
+    for name, seconds in warned.items():
+        assert seconds < DETECT_LIMIT, ekfs[name].text()
+    assert all(seconds is not None for seconds in new.values()), new
+    assert '/robot_pose_ekf' in publishers.get(POSE, []), publishers
+    assert '/odom_ekf' in subscribers.get(POSE, []), subscribers
+    assert '/odom_ekf' in publishers.get('/odom_ekf', []), publishers
+    assert '/robot_pose_ekf' in services.get('/robot_pose_ekf/get_status', []), services
+    # Neither the outage nor the re-registration held the data up: the
+    # fake robot's odometry still reaches pose_ekf over its old connection
+    # (a node blocked on the master would stop for 2 s, or for minutes).
+    assert rows and rows[-1] > time.monotonic() - 1.0, old.text()[-2000:]
+    assert gap < GAP_LIMIT, 'the stream stopped for %.2f s across the restart' % gap
+
+
+class FakeMaster(object):
+    """An XML-RPC server answering getPid and getParam('/run_id') as a
+    master would (no ROS involved)."""
+
+    def __init__(self, pid, run_id):
+        self.server = SimpleXMLRPCServer(('127.0.0.1', 0), logRequests=False)
+        self.server.register_function(lambda caller: [1, '', pid], 'getPid')
+        self.server.register_function(
+            lambda caller, key: [1, '', run_id] if run_id else [-1, 'not set', 0],
+            'getParam')
+        self.uri = 'http://127.0.0.1:%d' % self.server.server_address[1]
+        threading.Thread(target=self.server.serve_forever, daemon=True).start()
+
+    def close(self):
+        self.server.shutdown()
+        self.server.server_close()
+
+
+def test_master_watch_reports_gone_back_and_restarted_and_never_waits_long():
+    from rbx1_nav.ros.master import MasterWatch  # rospy, but no master needed
+    old, new = FakeMaster(101, 'run-a'), FakeMaster(202, 'run-b')
+    silent = socket.socket()  # takes connections, never answers
+    silent.bind(('127.0.0.1', 0))
+    silent.listen(8)
+    # Should a poll ever wait without a timeout, this ends the wait (and
+    # the test fails) instead of hanging it.
+    timer = threading.Timer(10.0, silent.close)
+    timer.daemon = True
+    timer.start()
+    calls = []
+    watch = MasterWatch('test', timeout=0.3,
+                        on_gone=lambda uri, problem: calls.append(('gone', problem)),
+                        on_back=lambda uri: calls.append(('back',)),
+                        on_restarted=lambda uri: calls.append(('restarted',)))
+    try:
+        watch.uri = old.uri
+        events = [watch.poll()]
+        watch.uri = 'http://127.0.0.1:%d' % silent.getsockname()[1]
+        start = time.monotonic()
+        events += [watch.poll() for _ in range(3)]
+        slowest = (time.monotonic() - start) / 3
+        watch.uri = old.uri
+        events.append(watch.poll())
+        watch.uri = new.uri
+        events += [watch.poll(), watch.poll()]
+    finally:
+        timer.cancel()
+        old.close()
+        new.close()
+        silent.close()
+    print('RESULT master watch: a master that never answers costs %.2f s a poll '
+          '(timeout 0.3 s)' % slowest)
+    assert events == [None, None, None, 'gone', 'back', 'restarted', None]
+    assert calls == [('gone', 'timed out'), ('back',), ('restarted',)]
+    assert slowest < 2.0  # the socket timeout, not the 10 s above
