@@ -68,8 +68,10 @@ test: lint
 	@$(ROS) python3 -m pytest test/unit test/integration test/faults -q -p no:cacheprovider \
 	  -n 3 --dist loadgroup --junitxml=$(REPORTS)/pytest.xml --durations=8
 
+# The unit tests alone; PYTHON=python3.8 runs them as on ROS Noetic.
+PYTHON ?= python3
 unit:
-	python3 -m pytest test/unit -q -p no:cacheprovider
+	$(PYTHON) -m pytest test/unit -q -p no:cacheprovider
 
 # The course on the fake robot at real time, recorded and plotted to course.png.
 # Launch args pass through: make demo ARGS="precise:=true rviz:=true"
