@@ -18,7 +18,7 @@ DEB_PACKAGES := catkin ros-cmake-modules python3-catkin-pkg python3-setuptools \
   rviz xvfb catkin-lint python3-pytest python3-hypothesis python3-numpy \
   python3-matplotlib python3-pil python3-std-srvs python3-dynamic-reconfigure python3-pytest-xdist \
   ros-message-generation ros-message-runtime python3-genpy python3-gencpp \
-  libdynamic-reconfigure-config-init-mutex-dev python3-venv
+  libdynamic-reconfigure-config-init-mutex-dev python3-venv python3-rosservice
 SUDO := $(if $(filter 0,$(shell id -u)),,sudo)
 
 .PHONY: deps build test unit lint demo bench clean

@@ -3,9 +3,12 @@
 
 Subscribes ``input`` (geometry_msgs/PoseWithCovarianceStamped) and publishes
 ``output`` (nav_msgs/Odometry); ``launch/odom_ekf.launch`` remaps them to
-``/odom_combined`` and ``/odom_ekf`` so RViz can show the gyro + wheel
-estimate next to the raw ``/odom``. The mapping lives in
-``rbx1_nav.odom_ekf``.
+``/robot_pose_ekf/odom_combined`` (where robot_pose_ekf and pose_ekf.py
+publish) and ``/odom_ekf`` so RViz can show the gyro + wheel estimate next
+to the raw ``/odom``. The mapping lives in ``rbx1_nav.odom_ekf``. Should
+nothing come on the input within SILENT s (wall time) of start-up, one
+warning names the topic and the topics that carry
+PoseWithCovarianceStamped.
 
 Private parameters:
   ~frame_id (str, ''): output frame; empty keeps the input's frame.
@@ -22,15 +25,21 @@ new clock. Should the ROS master restart, the node says so within a few
 seconds and registers its topics with the new master, so RViz and new
 nodes find them again (rbx1_nav.ros.master); its connections go on.
 """
+import threading
+
+import rosgraph
 import rospy
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry
 
 from rbx1_nav.input_check import RejectedInput, time_moved_back_text
-from rbx1_nav.odom_ekf import SENSOR, PoseToOdometry
+from rbx1_nav.odom_ekf import SENSOR, PoseToOdometry, silent_input_text
 from rbx1_nav.params import POSITIVE, flag, frame, number, param
-from rbx1_nav.ros.master import MasterWatch, reregister_node
+from rbx1_nav.ros.master import MasterWatch, proxy, reregister_node
 from rbx1_nav.ros.node import start_node
+
+SILENT = 5.0  # wall s without input before the warning
+POSE_TYPE = 'geometry_msgs/PoseWithCovarianceStamped'
 
 PARAMS = (
     param('frame_id', '', frame, '', "output frame; '' keeps the input's",
@@ -52,12 +61,34 @@ class OdomEkfNode(object):
         rospy.loginfo('odom_ekf: %s -> %s', self.input_topic,
                       rospy.resolve_name('output'))
         self.pub = rospy.Publisher('output', Odometry, queue_size=10)
+        self.received = threading.Event()
         # Subscribe last so no callback runs before the publisher exists.
         self.sub = rospy.Subscriber('input', PoseWithCovarianceStamped,
                                     self.on_pose, queue_size=10)
+        threading.Thread(target=self.check_input, daemon=True,
+                         name='input_check').start()
+
+    def check_input(self):
+        """Warn once if nothing came on the input within SILENT s, naming
+        who publishes it and the topics it could be remapped to."""
+        if self.received.wait(SILENT) or rospy.is_shutdown():
+            return
+        publishers = candidates = None
+        try:  # a proxy with a timeout: an unreachable master blocks nothing
+            master = proxy(rosgraph.get_master_uri())
+            published = dict(master.getSystemState(rospy.get_name())[2][0])
+            publishers = published.get(self.input_topic, [])
+            candidates = [topic for topic, kind in
+                          master.getTopicTypes(rospy.get_name())[2]
+                          if kind == POSE_TYPE and published.get(topic)]
+        except Exception:  # refused, timed out, a bad reply: say so
+            pass
+        rospy.logwarn('odom_ekf: ' + silent_input_text(
+            self.input_topic, SILENT, publishers, candidates))
 
     def on_pose(self, msg):
         """Convert one fused pose and publish it; drop bad input with a warning."""
+        self.received.set()
         now = rospy.Time.now().to_sec()
         back = self.converter.check_clock(now)
         if back > 0.0:

@@ -21,7 +21,7 @@ from rbx1_nav.transform_utils import (normalize_angle, quat_to_angle,
                                       strip_leading_slash)
 
 __all__ = ['PoseToOdometry', 'UNKNOWN_VARIANCE', 'UNKNOWN_TWIST_COVARIANCE',
-           'MIN_TWIST_DT', 'MAX_TWIST', 'SENSOR']
+           'MIN_TWIST_DT', 'MAX_TWIST', 'SENSOR', 'silent_input_text']
 
 #: Variance that marks a twist component as unknown (the common ROS idiom).
 UNKNOWN_VARIANCE = 1e6
@@ -149,3 +149,26 @@ class PoseToOdometry(object):
         odom.twist.covariance = np.diag(
             [var, var, UNKNOWN_VARIANCE, UNKNOWN_VARIANCE, UNKNOWN_VARIANCE,
              var]).ravel().tolist()
+
+
+def silent_input_text(topic, seconds, publishers, candidates):
+    """The warning when nothing came on the input ``topic`` in ``seconds``.
+
+    ``publishers`` are the nodes that publish ``topic`` and ``candidates``
+    the published topics that carry geometry_msgs/PoseWithCovarianceStamped,
+    both from the master (None when it could not tell).
+    """
+    text = 'nothing on %s after %.0f s; ' % (topic, seconds)
+    if publishers:
+        return text + ('%s publishes it but sent nothing: is the filter '
+                       'getting its sensors?' % ', '.join(sorted(publishers)))
+    others = sorted(set(candidates or ()) - {topic})
+    if others:
+        return text + ('nothing publishes it. Topics that carry '
+                       'PoseWithCovarianceStamped: %s. Remap the input, e.g. '
+                       'roslaunch rbx1_nav odom_ekf.launch input:=%s'
+                       % (', '.join(others), others[0]))
+    if candidates is None and publishers is None:
+        return text + 'whether anything publishes it is unknown (no master?)'
+    return text + ('nothing publishes PoseWithCovarianceStamped at all: start '
+                   'pose_ekf.py (or robot_pose_ekf) first')

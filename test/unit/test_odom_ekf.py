@@ -12,7 +12,8 @@ from rbx1_nav.input_check import (ABSURD, DUPLICATE,  # noqa: E402
                                   OUT_OF_ORDER, ZERO_STAMP, RejectedInput)
 from rbx1_nav.odom_ekf import (MAX_TWIST, MIN_TWIST_DT,  # noqa: E402
                                UNKNOWN_TWIST_COVARIANCE,
-                               UNKNOWN_VARIANCE, PoseToOdometry)
+                               UNKNOWN_VARIANCE, PoseToOdometry,
+                               silent_input_text)
 from rbx1_nav.transform_utils import strip_leading_slash  # noqa: E402
 
 
@@ -280,3 +281,14 @@ def test_time_moving_back_takes_the_new_clocks_poses():
     assert_zero_unknown_twist(odom)  # no twist across the jump
     odom = conv.convert(make_pose(x=5.1, yaw=0.0, t=90.2))
     assert odom.twist.twist.linear.x == pytest.approx(1.0)
+
+
+def test_a_silent_input_is_named_with_the_topics_to_remap_to():
+    text = silent_input_text('/odom_combined', 5.0, [],
+                             ['/odom_combined', '/robot_pose_ekf/odom_combined'])
+    assert text.startswith('nothing on /odom_combined after 5 s; nothing publishes it.')
+    assert 'odom_ekf.launch input:=/robot_pose_ekf/odom_combined' in text
+    assert 'pose_ekf.py' in silent_input_text('/odom_combined', 5.0, [], [])
+    assert '/robot_pose_ekf publishes it' in silent_input_text(
+        '/odom_combined', 5.0, ['/robot_pose_ekf'], ['/odom_combined'])
+    assert 'unknown' in silent_input_text('/odom_combined', 5.0, None, None)
