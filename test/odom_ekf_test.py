@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""rostest for odom_ekf.launch: /odom_combined in, /odom_ekf out.
+"""rostest for odom_ekf.launch: /robot_pose_ekf/odom_combined in, /odom_ekf out.
 
 Checks the node is up and silent before any input (it must not block on a
 first message), then the contents of the republished Odometry, the twist
@@ -28,7 +28,7 @@ def make_pose(stamp, x, y, yaw, frame='/odom'):
 
 
 class OdomEkfTest(unittest.TestCase):
-    """Drives /odom_combined and reads /odom_ekf."""
+    """Drives /robot_pose_ekf/odom_combined and reads /odom_ekf."""
 
     def setUp(self):
         self.timeout = float(rospy.get_param('~timeout', 10.0))
@@ -36,7 +36,7 @@ class OdomEkfTest(unittest.TestCase):
         self.received = []
         self.cond = threading.Condition()
         self.sub = rospy.Subscriber('/odom_ekf', Odometry, self.on_odom)
-        self.pub = rospy.Publisher('/odom_combined', PoseWithCovarianceStamped,
+        self.pub = rospy.Publisher('/robot_pose_ekf/odom_combined', PoseWithCovarianceStamped,
                                    queue_size=10)
 
     def on_odom(self, msg):
@@ -72,11 +72,11 @@ class OdomEkfTest(unittest.TestCase):
             publishers, subscribers, _ = master.getSystemState()
             # The node registers its publisher, then its subscriber.
             if (['/odom_ekf', ['/odom_ekf']] in publishers and '/odom_ekf'
-                    in dict(subscribers).get('/odom_combined', [])):
+                    in dict(subscribers).get('/robot_pose_ekf/odom_combined', [])):
                 break
             rospy.sleep(0.1)
         self.assertIn(['/odom_ekf', ['/odom_ekf']], publishers)
-        self.assertIn('/odom_ekf', dict(subscribers).get('/odom_combined', []))
+        self.assertIn('/odom_ekf', dict(subscribers).get('/robot_pose_ekf/odom_combined', []))
         self.wait_connected()
         # ...and publishes nothing until a pose arrives.
         rospy.sleep(rospy.get_param('~quiet_period', 1.0))
