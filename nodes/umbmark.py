@@ -142,7 +142,7 @@ class Benchmark(object):
                           'from its start', label, 1000 * odom[0], 1000 * odom[1])
             if self.truth:
                 true = umbmark.relative(truth_start,
-                                        self.truth.at(rospy.Time.now()))
+                                        self.truth.at(self.runner.last_tick))
                 rospy.loginfo('%s: ground truth: (%+.1f, %+.1f) mm', label,
                               1000 * true[0], 1000 * true[1])
                 self.measured.append(true)

@@ -41,6 +41,9 @@ class TwoRobotsTest(unittest.TestCase):
                                        starts[ns])
                 self.assertIn('Following tf %s/odom -> %s/base_footprint'
                               % (ns, ns), courses[ns].output)
+                # In a fleet, progress and summary lines name their robot.
+                self.assertIn('%s: leg 1/' % ns, courses[ns].output)
+                self.assertIn('%s: Course complete' % ns, courses[ns].output)
         finally:
             for course in courses.values():
                 course.cleanup()

@@ -112,7 +112,7 @@ class CalibrationNode(object):
                       kind.unit, config['speed'], kind.speed_unit,
                       config['tolerance'], kind.unit, kind.correction,
                       config[kind.correction])
-        if self.truth:
+        if self.truth:  # the robot stands still until the course's first tick
             self.truth.start(rospy.Time.now())
         final = self.runner.run(course)
         self.odometry = calibration.measure(kind, course.start_pose, final,
@@ -121,7 +121,7 @@ class CalibrationNode(object):
         rospy.loginfo('%s: odometry says %.4f %s (tf %s -> %s, robot settled)',
                       self.name, self.odometry, kind.unit,
                       self.runner.odom_frame, self.runner.followed)
-        truth = self.truth.stop(rospy.Time.now()) if self.truth else None
+        truth = self.truth.stop(self.runner.last_tick) if self.truth else None
         if truth is not None:
             self.report(truth.value(kind), 'ground truth on %s'
                         % self.truth.topic)

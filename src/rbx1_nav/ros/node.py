@@ -87,12 +87,18 @@ def wait_for_master(name):
 def read_params(specs):
     """Values of the node's private parameters ``specs``.
 
-    Raises ValueError naming every unusable value.
+    Raises ValueError naming every unusable value and the command that
+    clears each from the parameter server.
     """
-    values, problems = params.read_all(
-        specs, lambda name, default: rospy.get_param('~' + name, default), '~')
+    def lookup(name, default):
+        return rospy.get_param('~' + name, default)
+    values, problems = params.read_all(specs, lookup, '~')
     if problems:
-        raise ValueError('; '.join(problems))
+        bad = [spec.name for spec in specs if params.read_all([spec], lookup)[1]]
+        raise ValueError(
+            '%s. A value given as _name:=value stays on the parameter server '
+            'for later runs: clear it with %s' % ('; '.join(problems), '; '.join(
+                'rosparam delete %s/%s' % (rospy.get_name(), name) for name in bad)))
     return values
 
 
@@ -126,10 +132,7 @@ def start_node(name, specs, doc, clock=True):
     try:
         values = read_params(specs)
     except ValueError as err:
-        rospy.logerr('%s: bad parameters, not moving: %s. A value given as '
-                     '_name:=value stays on the parameter server for later '
-                     'runs: clear it with rosparam delete %s/NAME', name, err,
-                     rospy.get_name())
+        rospy.logerr('%s: bad parameters, not moving: %s', name, err)
         return None
     rospy.loginfo('%s: %s', name, params.describe(specs, values))
     return values

@@ -157,6 +157,9 @@ class MotionRunner(object):
         self.granted = set()
         self.state_wait = lockstep.STATE_LIMIT
         self.dropouts = None  # the transform's, in the course driven last
+        # Progress and summary lines name the robot in a fleet: its namespace.
+        namespace = rospy.get_namespace().strip('/')
+        self.robot = namespace + ': ' if namespace else ''
 
     def _on_odom(self, msg):
         twist = msg.twist.twist
@@ -418,7 +421,7 @@ class MotionRunner(object):
             self._check_stalls(course)
             self.publish(course.update(pose, now.to_sec(), age))
             for event in course.pop_events():
-                rospy.loginfo(event)
+                rospy.loginfo(self.robot + event)
             if course.done:
                 break
         if not course.done:
@@ -427,6 +430,16 @@ class MotionRunner(object):
         self._check_stalls(course)
         course.stalls.end(self.tick_times[-1])
         return None if blind else pose
+
+    @property
+    def last_tick(self):
+        """ROS time of the last control tick of the course driven last.
+
+        Under simulated time, ``rospy.Time.now()`` is the last /clock this
+        process received, which may lag the course's own ticks (granted
+        to it under lockstep) on a loaded machine: read a simulator's
+        state at this time instead."""
+        return rospy.Time.from_sec(self.tick_times[-1])
 
     def _held(self, now, fresh_at):
         """Ride out a stale transform (rbx1_nav.dropouts): True while the
@@ -540,20 +553,20 @@ class MotionRunner(object):
                     if stalls.count else 'never')
         dropouts = self.dropouts.summary()
         if final is None:
-            rospy.loginfo('Course complete in %.1f s (no odometry: final pose '
+            rospy.loginfo('%sCourse complete in %.1f s (no odometry: final pose '
                           'unknown); stood still while commanded: %s; link '
-                          'dropouts ridden out: %s', course.elapsed, held,
-                          dropouts)
+                          'dropouts ridden out: %s', self.robot, course.elapsed,
+                          held, dropouts)
             return
         start = course.start_pose
         error, heading = pose_error(final, course.ideal_end(start))
         rospy.loginfo(
-            'Course complete in %.1f s: final pose relative to start in %s: '
+            '%sCourse complete in %.1f s: final pose relative to start in %s: '
             'dx %+.1f mm, dy %+.1f mm, dyaw %+.2f deg; error from the ideal '
             'end pose: position %.1f mm, heading %+.2f deg; control loop '
             '%.1f Hz mean, %d Hz slowest second; stood still while commanded: '
             '%s; link dropouts ridden out: %s',
-            course.elapsed, self.odom_frame, 1000.0 * (final.x - start.x),
+            self.robot, course.elapsed, self.odom_frame, 1000.0 * (final.x - start.x),
             1000.0 * (final.y - start.y),
             math.degrees(normalize_angle(final.yaw - start.yaw)),
             1000.0 * error, math.degrees(heading),
