@@ -27,7 +27,6 @@ nodes find them again (rbx1_nav.ros.master); its connections go on.
 """
 import threading
 
-import rosgraph
 import rospy
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry
@@ -35,7 +34,7 @@ from nav_msgs.msg import Odometry
 from rbx1_nav.input_check import RejectedInput, time_moved_back_text
 from rbx1_nav.odom_ekf import SENSOR, PoseToOdometry, silent_input_text
 from rbx1_nav.params import POSITIVE, flag, frame, number, param
-from rbx1_nav.ros.master import MasterWatch, proxy, reregister_node
+from rbx1_nav.ros.master import MasterWatch, reregister_node, topic_graph
 from rbx1_nav.ros.node import start_node
 
 SILENT = 5.0  # wall s without input before the warning
@@ -74,15 +73,12 @@ class OdomEkfNode(object):
         if self.received.wait(SILENT) or rospy.is_shutdown():
             return
         publishers = candidates = None
-        try:  # a proxy with a timeout: an unreachable master blocks nothing
-            master = proxy(rosgraph.get_master_uri())
-            published = dict(master.getSystemState(rospy.get_name())[2][0])
+        graph = topic_graph()  # with a timeout: an unreachable master blocks nothing
+        if graph is not None:
+            published, _, types = graph
             publishers = published.get(self.input_topic, [])
-            candidates = [topic for topic, kind in
-                          master.getTopicTypes(rospy.get_name())[2]
+            candidates = [topic for topic, kind in types.items()
                           if kind == POSE_TYPE and published.get(topic)]
-        except Exception:  # refused, timed out, a bad reply: say so
-            pass
         rospy.logwarn('odom_ekf: ' + silent_input_text(
             self.input_topic, SILENT, publishers, candidates))
 

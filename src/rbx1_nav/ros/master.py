@@ -26,8 +26,8 @@ from rbx1_nav.master_watch import (BACK, GONE, RESTARTED, MasterStates,
                                    gone_text, reregistering_text,
                                    restarted_text)
 
-__all__ = ['MasterWatch', 'proxy', 'reregister', 'reregister_node', 'gone_text',
-           'restarted_text']
+__all__ = ['MasterWatch', 'proxy', 'topic_graph', 'reregister',
+           'reregister_node', 'gone_text', 'restarted_text']
 
 PERIOD = 1.0  # s between polls
 TIMEOUT = 2.0  # s, socket timeout of each call to the master
@@ -58,6 +58,21 @@ def _value(reply, what):
     if code != 1:
         raise RuntimeError('%s: %s' % (what, message))
     return value
+
+
+def topic_graph(timeout=TIMEOUT):
+    """The master's topics as ``(publishers, subscribers, types)``, dicts
+    by topic name (of node lists, of type names); None when the master
+    cannot tell (unreachable within ``timeout`` s, an error): a caller
+    that only suggests or warns goes on without it."""
+    caller_id = rospy.get_caller_id()
+    try:
+        with proxy(rosgraph.get_master_uri(), timeout) as master:
+            state = _value(master.getSystemState(caller_id), 'getSystemState')
+            types = _value(master.getTopicTypes(caller_id), 'getTopicTypes')
+    except Exception:  # refused, timed out, reset, bad reply
+        return None
+    return dict(state[0]), dict(state[1]), dict(types)
 
 
 def master_identity(uri, caller_id, timeout=TIMEOUT):

@@ -7,26 +7,12 @@ nothing new and blocks nothing.
 """
 import threading
 
-import rosgraph
 import rospy
 
 from rbx1_nav.publishers import NewPublishers, warning_text
-from rbx1_nav.ros.master import proxy
+from rbx1_nav.ros.master import topic_graph
 
 PERIOD = 3.0  # wall s between looks at the master
-
-
-def topic_publishers(master, topics):
-    """{topic: [node, ...]} for ``topics`` from ``master``'s system state;
-    None when the master cannot tell (unreachable, an error)."""
-    try:
-        code, _, state = master.getSystemState(rospy.get_name())
-    except Exception:  # refused, timed out, a bad reply
-        return None
-    if code != 1:
-        return None
-    listed = dict((topic, nodes) for topic, nodes in state[0])
-    return {topic: listed.get(topic, []) for topic in topics}
 
 
 def watch_publishers(name, topics, own=None):
@@ -37,10 +23,10 @@ def watch_publishers(name, topics, own=None):
     checks = {topic: NewPublishers(own) for topic in topics}
 
     def watch():
-        master = proxy(rosgraph.get_master_uri())
         while not rospy.core.is_shutdown():
-            listed = topic_publishers(master, topics) or {}
-            for topic, publishers in sorted(listed.items()):
+            graph = topic_graph()
+            for topic in sorted(topics) if graph else ():
+                publishers = graph[0].get(topic, [])
                 new = checks[topic].update(publishers)
                 if new:
                     rospy.logwarn('%s: %s', name,

@@ -27,7 +27,6 @@ import math
 import threading
 import time
 
-import rosgraph
 import rospy
 import tf2_ros
 import yaml
@@ -40,7 +39,8 @@ from rbx1_nav.input_check import time_moved_back_text
 from rbx1_nav.motion import control_rates, pose_error
 from rbx1_nav.params import param
 from rbx1_nav.ros import lockstep
-from rbx1_nav.ros.master import MasterWatch, gone_text, restarted_text
+from rbx1_nav.ros.master import (MasterWatch, gone_text, restarted_text,
+                                 topic_graph)
 from rbx1_nav.ros.node import start_node, wait_for_clock
 from rbx1_nav.ros.publishers import watch_publishers
 from rbx1_nav.transform_utils import Pose2D, normalize_angle, quat_to_angle
@@ -350,13 +350,11 @@ class MotionRunner(object):
 
     def _listener_hint(self):
         """Where the velocity commands could go instead, from the master."""
-        try:
-            master = rosgraph.Master(rospy.get_name())
-            subscribers = master.getSystemState()[1]
-            types = dict(master.getTopicTypes())
-        except Exception:  # the master is gone too: nothing to suggest
+        graph = topic_graph()
+        if graph is None:  # the master is gone too: nothing to suggest
             return 'is the robot driver running?'
-        topics = sorted(topic for topic, nodes in subscribers
+        _, subscribers, types = graph
+        topics = sorted(topic for topic in subscribers
                         if types.get(topic) == 'geometry_msgs/Twist')
         if not topics:
             return ('no node takes geometry_msgs/Twist commands: is the robot '

@@ -91,8 +91,8 @@ class GroundTruth(object):
             self.track, self.track_from = PoseTrack(), stamp
 
     def stop(self, stamp):
-        """End the track at the first pose stamped at or after ``stamp``;
-        return it (None if no pose arrived meanwhile)."""
+        """End the track once a pose stamped at or after ``stamp`` came (see
+        :meth:`at`); return it (None if no pose arrived meanwhile)."""
         self.at(stamp)
         with self.lock:
             track, self.track = self.track, None
