@@ -3,7 +3,8 @@
 
 Each robot named in ~robots is what fake_turtlebot.py is in that namespace,
 with the same parameters for every robot; the model steps all of them in
-numpy arrays (rbx1_nav.diff_drive.DiffDriveFleet), so N robots cost one
+numpy arrays (rbx1_nav.diff_drive.DiffDriveFleet), or with ~physics in one
+MuJoCo model (rbx1_nav.physics_robot.PhysicsFleet), so N robots cost one
 process. `roslaunch rbx1_nav fleet.launch n:=10` starts one with robot1 ..
 robot10.
 
@@ -28,8 +29,7 @@ import threading
 import rospy
 
 from rbx1_nav import fake_robot
-from rbx1_nav.diff_drive import DiffDriveFleet
-from rbx1_nav.ros.fake_robot import RobotTopics, model_config, spin_simulator
+from rbx1_nav.ros.fake_robot import RobotTopics, make_fleet, spin_simulator
 from rbx1_nav.ros.node import start_node, until_shutdown
 
 NAME = 'fake_fleet'
@@ -37,12 +37,13 @@ PARAMS = (fake_robot.ROBOTS,) + fake_robot.PARAMS
 
 
 class FakeFleet:
-    """DiffDriveFleet, one RobotTopics per robot, and the fixed-rate loop."""
+    """The model (DiffDriveFleet, or PhysicsFleet with ~physics), one
+    RobotTopics per robot, and the fixed-rate loop."""
 
     def __init__(self, values):
         self.rate = values['rate']
         self.names = values['robots']
-        self.sim = DiffDriveFleet(len(self.names), model_config(values, NAME))
+        self.sim = make_fleet(values, len(self.names), NAME)
         self.lock = threading.Lock()
         self.robots = [RobotTopics(self.sim.robot(i), values, self.lock, ns=name,
                                    index=i, log_name='%s: %s' % (NAME, name))
@@ -72,7 +73,7 @@ def main():
         raise SystemExit(1)
     try:
         fleet = FakeFleet(values)
-    except ValueError as err:
+    except (ValueError, ImportError) as err:
         rospy.logfatal('%s: %s', NAME, err)
         raise SystemExit(1)
     until_shutdown(fleet.spin)

@@ -2,7 +2,10 @@
 """fake_turtlebot: a kinematic TurtleBot base for simulation and tests.
 
 A drop-in for the ArbotiX fake robot of ROS By Example. The motion model is
-rbx1_nav.diff_drive; this node only reads parameters and wires it to ROS.
+rbx1_nav.diff_drive (kinematic: the base moves exactly as commanded) or,
+with ~physics, rbx1_nav.physics_robot (real dynamics on MuJoCo: inertia,
+motor torque and deadband, wheel slip, encoder ticks, a floor); this node
+only reads parameters and wires the model to ROS.
 
 Subscribes:  cmd_vel (geometry_msgs/Twist)
 Publishes:   odom (nav_msgs/Odometry), tf odom_frame -> base_frame, static
@@ -15,8 +18,10 @@ Publishes:   odom (nav_msgs/Odometry), tf odom_frame -> base_frame, static
              at ~gps_rate Hz, with variance ~gps_noise^2; seeded by ~seed)
 Parameters:  rbx1_nav.fake_robot.PARAMS (--help lists them), every field
              of rbx1_nav.diff_drive.DiffDriveConfig among them (bounds in
-             its CONFIG_LIMITS). A bad value is logged and the node exits
-             with status 1.
+             its CONFIG_LIMITS) and, with ~physics, of
+             rbx1_nav.physics_robot.PhysicsConfig. A bad value (or ~physics
+             without MuJoCo installed) is logged and the node exits with
+             status 1.
 The topics are rbx1_nav.ros.fake_robot.RobotTopics, shared with
 fake_fleet.py (N robots in one process).
 """
@@ -24,20 +29,20 @@ import threading
 
 import rospy
 
-from rbx1_nav.diff_drive import DiffDriveSim
 from rbx1_nav.fake_robot import PARAMS
-from rbx1_nav.ros.fake_robot import RobotTopics, model_config, spin_simulator
+from rbx1_nav.ros.fake_robot import RobotTopics, make_fleet, spin_simulator
 from rbx1_nav.ros.node import start_node, until_shutdown
 
 
 class FakeTurtleBot:
-    """DiffDriveSim, its topics (RobotTopics) and the fixed-rate loop."""
+    """The model (a fleet of one), its topics (RobotTopics) and the
+    fixed-rate loop."""
 
     def __init__(self, values):
         self.rate = values['rate']
-        self.sim = DiffDriveSim(model_config(values, 'fake_turtlebot'))
+        self.sim = make_fleet(values, 1, 'fake_turtlebot')
         self.lock = threading.Lock()
-        self.topics = RobotTopics(self.sim, values, self.lock)
+        self.topics = RobotTopics(self.sim.robot(0), values, self.lock)
 
     def spin(self):
         """Step the model on a fixed grid of ROS times (under lockstep, also
@@ -59,7 +64,7 @@ def main():
         raise SystemExit(1)
     try:
         robot = FakeTurtleBot(values)
-    except ValueError as err:
+    except (ValueError, ImportError) as err:
         rospy.logfatal('fake_turtlebot: %s', err)
         raise SystemExit(1)
     until_shutdown(robot.spin)

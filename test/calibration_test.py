@@ -11,9 +11,7 @@ out-and-back course in precise mode runs on the uncorrected robot and on a
 fresh robot with both corrections set; with them, the course must end
 ~improvement times closer to its start (ground truth).
 """
-import math
 import os
-import re
 import sys
 import unittest
 
@@ -22,11 +20,8 @@ import rostest
 import yaml
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), 'helpers'))
-from course_harness import (CourseProcess, FakeRobot,  # noqa: E402
-                            RobotWatch, wait_sim, wait_until)
-
-CORRECTION = re.compile(r'(odom_(?:linear|angular)_scale_correction) = '
-                        r'measured / odometry = \S+ / \S+ = (\S+)')
+from course_harness import (FakeRobot, RobotWatch,  # noqa: E402
+                            calibrate, course_end_error)
 
 
 class CalibrationTest(unittest.TestCase):
@@ -51,40 +46,18 @@ class CalibrationTest(unittest.TestCase):
 
     def calibrate(self, kind):
         """Run calibrate_<kind>.py once; return the correction it prints."""
-        node = CourseProcess(script='calibrate_%s.py' % kind, params={
-            'start_test': 'true', 'ground_truth_topic': 'ground_truth',
-            'tf_timeout': 5.0})
-        try:
-            found = []
-            printed = wait_until(lambda: found.extend(
-                CORRECTION.findall(node.output)) or found, wall_limit=120.0)
-            self.assertTrue(printed, 'no correction printed:\n' + node.output)
-            node.interrupt()
-            self.assertEqual(node.wait(), 0, node.output)
-        finally:
-            node.cleanup()
-        name, value = found[0]
-        self.assertEqual(name, 'odom_%s_scale_correction' % kind)
+        value, output = calibrate(self, kind)
         truth = 1.0 / self.errors[kind]
-        off = abs(float(value) - truth) / truth
-        print('RESULT %s correction %s, true %.4f, off by %.2f %%'
+        off = abs(value - truth) / truth
+        print('RESULT %s correction %.4f, true %.4f, off by %.2f %%'
               % (kind, value, truth, 100 * off))
         self.assertLess(off, float(rospy.get_param('~correction_tolerance')),
-                        node.output)
-        return float(value)
+                        output)
+        return value
 
     def course_error(self):
-        """Ground-truth distance (m) from start to end of a precise course."""
-        start = self.watch.pose()
-        node = CourseProcess(params={'precise': 'true', 'tf_timeout': 5.0})
-        try:
-            self.assertEqual(node.wait(), 0, node.output)
-        finally:
-            node.cleanup()
-        wait_sim(0.5)
-        end = self.watch.pose()
-        return (math.hypot(end.x - start.x, end.y - start.y),
-                math.degrees(abs(math.remainder(end.yaw - start.yaw, 2 * math.pi))))
+        """Ground-truth (m, deg) from start to end of a precise course."""
+        return course_end_error(self, self.watch, precise='true')
 
     def test_calibrations_find_the_scale_errors_and_fix_the_course(self):
         self.start_robot()

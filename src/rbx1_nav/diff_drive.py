@@ -139,7 +139,7 @@ class DiffDriveConfig:
         None or an int >= 0.
         """
         found = []
-        for name, (low, high, allow_zero) in CONFIG_LIMITS.items():
+        for name, (low, high, allow_zero) in self.limits().items():
             value = getattr(self, name)
             try:
                 if isinstance(value, bool) or not isinstance(value, (int, float)):
@@ -162,15 +162,18 @@ class DiffDriveConfig:
         Raises ValueError naming every bad value as ``prefix + name``.
         """
         values, found = {}, []
+        limits = cls.limits()
         for name, value in raw.items():
-            if name not in CONFIG_LIMITS and name != 'seed':
+            if name not in limits and name not in cls.OTHER_FIELDS:
                 raise ValueError('%s%s is not a fake robot parameter' % (prefix, name))
             try:
                 if name == 'seed':
                     values[name] = (None if value is None
                                     else integer(prefix + name, value, minimum=0))
+                elif name in limits:
+                    values[name] = number(prefix + name, value, *limits[name])
                 else:
-                    values[name] = number(prefix + name, value, *CONFIG_LIMITS[name])
+                    values[name] = cls.OTHER_FIELDS[name](prefix + name, value)
             except ValueError as err:
                 found.append(str(err))
         if found:
@@ -181,6 +184,15 @@ class DiffDriveConfig:
     def names(cls):
         """Names of all parameters, in declaration order."""
         return [f.name for f in fields(cls)]
+
+    #: The fields that are not numbers, each with its check (as
+    #: rbx1_nav.params' checks take a name and a value); seed is read apart.
+    OTHER_FIELDS = {'seed': None}
+
+    @classmethod
+    def limits(cls):
+        """(minimum, maximum, allow_zero) of each numeric field."""
+        return CONFIG_LIMITS
 
 
 #: (minimum, maximum, allow_zero) of each numeric DiffDriveConfig field, for
@@ -267,6 +279,7 @@ class DiffDriveFleet:
         self.timed_out = np.zeros(size, dtype=bool)  # True while the watchdog holds a base
         self.truth = np.zeros((size, 3))
         self.odom = np.zeros((size, 3))
+        self._commanded = np.zeros((size, 2))  # (v, w) executed over the last step
         self.velocity = np.zeros((size, 2))        # true (v, w) over the last step
         self.odom_velocity = np.zeros((size, 2))
         self.wheel_angles = np.zeros((size, 2))      # encoder readings, rad
@@ -304,23 +317,37 @@ class DiffDriveFleet:
         restarted simulation clock) re-bases the clock there and drops the
         commands received so far, which stops the bases until their next one.
         """
+        dt = self._advance_clock(now)
+        if dt is None:
+            return False
+        v, w = self._execute(now, dt)
+        self._commanded = _columns(v, w)
+        self._move(v, w, dt)
+        return True
+
+    def _advance_clock(self, now):
+        """The seconds from the previous step to ``now``; None when time did
+        not advance (see :meth:`step`)."""
         if self._time is None or now < self._time:
             if self._time is not None:  # restarted clock: forget old commands
                 for queue in self._pending:
                     queue.clear()
                 self._cmd_time[:] = -np.inf
             self._time = now
-            return False
+            return None
         dt = now - self._time
         if dt == 0.0:
-            return False
+            return None
         self._time = now
-        v, w = self._execute(now, dt)
+        return dt
+
+    def _move(self, v, w, dt):
+        """The bases execute (v, w) exactly for ``dt`` s: truth, wheels,
+        odometry and gyro follow."""
         self.velocity = _columns(v, w)
         self.truth = arc_steps(self.truth, v * dt, w * dt)
         self._update_wheels_and_odometry(v, w, dt)
         self._update_gyro(w, dt)
-        return True
 
     def _execute(self, now, dt):
         """The (v, w) arrays the bases execute over the step ending at ``now``."""
@@ -332,9 +359,9 @@ class DiffDriveFleet:
         # A robot that never had a command (time -inf) is timed out too.
         self.timed_out = now - self._cmd_time > cfg.cmd_timeout
         target = np.where(self.timed_out[:, None], 0.0, self._cmd)
-        return (_approach(self.velocity[:, 0], target[:, 0],
+        return (_approach(self._commanded[:, 0], target[:, 0],
                           _max_change(cfg.accel_limit_linear, dt)),
-                _approach(self.velocity[:, 1], target[:, 1],
+                _approach(self._commanded[:, 1], target[:, 1],
                           _max_change(cfg.accel_limit_angular, dt)))
 
     def _update_wheels_and_odometry(self, v, w, dt):
@@ -355,10 +382,16 @@ class DiffDriveFleet:
                        * self._rng.standard_normal(travel.shape))
         turned = travel / np.array([cfg.left_wheel_radius_error,
                                     cfg.right_wheel_radius_error])
-        self.wheel_angles += turned / cfg.wheel_radius
-        self.wheel_velocities = turned / cfg.wheel_radius / dt
-        wheels = turned * np.array([cfg.left_wheel_radius_multiplier,
-                                    cfg.right_wheel_radius_multiplier])
+        self._update_odometry(turned / cfg.wheel_radius, dt)
+
+    def _update_odometry(self, angles, dt):
+        """The driver's odometry from the encoders' wheel ``angles`` (rad,
+        (N, 2): left, right) turned over the last ``dt`` s."""
+        cfg = self.config
+        self.wheel_angles += angles
+        self.wheel_velocities = angles / dt
+        wheels = angles * cfg.wheel_radius * np.array(
+            [cfg.left_wheel_radius_multiplier, cfg.right_wheel_radius_multiplier])
         left, right = wheels[:, 0], wheels[:, 1]
         ds = (0.5 * (left + right) * cfg.linear_scale_error
               * cfg.odom_linear_scale_correction)

@@ -5,10 +5,11 @@ rbx1_nav.ros.fake_robot, the motion model in rbx1_nav.diff_drive. No rospy
 here.
 """
 from rbx1_nav.diff_drive import DEFAULT_COVARIANCE_DIAGONAL, DiffDriveConfig
+from rbx1_nav.physics_robot import PhysicsConfig
 from rbx1_nav.params import (POSITIVE, flag, frame, names, number, number_list,
                              param, raw, text)
 
-__all__ = ['PARAMS', 'ROBOTS', 'MAX_ROBOTS', 'WARN_PERIOD', 'MAX_CATCH_UP',
+__all__ = ['PARAMS', 'ROBOTS', 'config_class', 'MAX_ROBOTS', 'WARN_PERIOD', 'MAX_CATCH_UP',
            'MIN_RATE', 'MAX_RATE', 'GPS_UNKNOWN_VARIANCE']
 
 WARN_PERIOD = 5.0  # s between repeats of the same warning
@@ -28,6 +29,8 @@ COVARIANCE = dict(length=6, **POSITIVE)
 PARAMS = (
     param('rate', 50.0, number, 'Hz', 'simulation steps per second',
           minimum=MIN_RATE, maximum=MAX_RATE),
+    param('physics', False, flag, '',
+          'a robot with real dynamics on MuJoCo (rbx1_nav.physics_robot)'),
     param('odom_frame', 'odom', frame, '', 'odometry frame'),
     param('base_frame', 'base_footprint', frame, '', 'robot frame'),
     param('ground_truth_frame', 'world', frame, '',
@@ -50,7 +53,16 @@ PARAMS = (
           number_list, '', 'odom twist variances', **COVARIANCE),
 ) + tuple(param(name, getattr(DiffDriveConfig, name), raw, '',
                 'model setting, checked by rbx1_nav.diff_drive')
-          for name in DiffDriveConfig.names())
+          for name in DiffDriveConfig.names()) + tuple(
+    param(name, getattr(PhysicsConfig, name), raw, '',
+          'physics robot setting, checked by rbx1_nav.physics_robot')
+    for name in PhysicsConfig.names() if name not in DiffDriveConfig.names())
+
+
+def config_class(values):
+    """The model configuration the checked ``values`` ask for: PhysicsConfig
+    with ~physics, else DiffDriveConfig."""
+    return PhysicsConfig if values['physics'] else DiffDriveConfig
 
 #: fake_fleet.py's own parameter: one robot per namespace.
 ROBOTS = param('robots', ['robot1', 'robot2'], names, '',

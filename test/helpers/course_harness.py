@@ -9,6 +9,7 @@ pose) and ``cmd_vel`` (what the course commanded), optionally in a namespace.
 Times are ROS times, so under /use_sim_time they are simulated seconds.
 """
 import os
+import re
 import signal
 import subprocess
 import threading
@@ -226,6 +227,50 @@ class FakeRobot(object):
         robot = FakeRobot(settings)
         watch.wait_for_truth()
         return robot
+
+
+#: The line a calibration node prints its correction in.
+CORRECTION = re.compile(r'(odom_(?:linear|angular)_scale_correction) = '
+                        r'measured / odometry = \S+ / \S+ = (\S+)')
+
+
+def calibrate(test, kind, **params):
+    """Run calibrate_<kind>.py once with ground_truth as the tape measure,
+    stop it with Ctrl-C as a user does; assert it printed its correction
+    and exited 0. Returns (the correction, the node's output)."""
+    node = CourseProcess(script='calibrate_%s.py' % kind, params=dict(
+        {'start_test': 'true', 'ground_truth_topic': 'ground_truth',
+         'tf_timeout': 5.0}, **params))
+    try:
+        found = []
+        printed = wait_until(lambda: found.extend(
+            CORRECTION.findall(node.output)) or found, wall_limit=120.0)
+        test.assertTrue(printed, 'no correction printed:\n' + node.output)
+        node.interrupt()
+        test.assertEqual(node.wait(), 0, node.output)
+    finally:
+        node.cleanup()
+    name, value = found[0]
+    test.assertEqual(name, 'odom_%s_scale_correction' % kind)
+    return float(value), node.output
+
+
+def course_end_error(test, watch, script='odom_out_and_back.py', rest=0.5,
+                     **params):
+    """Run ``script`` with ``params`` to its end (asserting exit 0), let
+    the robot rest ``rest`` simulated seconds; return the true distance
+    (m) and heading change (deg, absolute) from its start."""
+    import math
+    start = watch.pose()
+    node = CourseProcess(script=script, params=dict({'tf_timeout': 5.0}, **params))
+    try:
+        test.assertEqual(node.wait(), 0, node.output)
+    finally:
+        node.cleanup()
+    wait_sim(rest)
+    end = watch.pose()
+    return (math.hypot(end.x - start.x, end.y - start.y),
+            math.degrees(abs(math.remainder(end.yaw - start.yaw, 2 * math.pi))))
 
 
 def wait_sim(seconds):

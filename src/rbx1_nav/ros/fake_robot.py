@@ -9,37 +9,60 @@ fixed-rate loop on ROS time that steps the model, :func:`model_config` the
 model's settings from the parameters.
 """
 import math
+import os
 
 import numpy as np
+import rospkg
 import rospy
 from geometry_msgs.msg import Quaternion, TransformStamped, Twist
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu, JointState
 from tf2_msgs.msg import TFMessage
 
-from rbx1_nav.diff_drive import DiffDriveConfig, covariance_from_diagonal
+from rbx1_nav.diff_drive import DiffDriveFleet, covariance_from_diagonal
 from rbx1_nav.fake_robot import (GPS_UNKNOWN_VARIANCE, MAX_CATCH_UP,
-                                 WARN_PERIOD)
+                                 WARN_PERIOD, config_class)
+from rbx1_nav.physics_robot import PhysicsFleet
 from rbx1_nav.input_check import time_moved_back_text
 from rbx1_nav.ros import lockstep
 from rbx1_nav.ros.publishers import watch_publishers
 from rbx1_nav.throttle import Throttle
 from rbx1_nav.transform_utils import strip_leading_slash, yaw_to_quaternion
 
-__all__ = ['RobotTopics', 'fill_odometry', 'model_config', 'spin_on_ros_time']
+__all__ = ['RobotTopics', 'fill_odometry', 'make_fleet', 'model_config',
+           'spin_on_ros_time']
 
 
 def model_config(values, log_name):
-    """The DiffDriveConfig in the checked parameters ``values``; warns when
+    """The model's configuration in the checked parameters ``values`` (a
+    PhysicsConfig with ~physics, else a DiffDriveConfig); warns when
     ~cmd_timeout is shorter than a step. Raises ValueError for a bad value."""
-    config = DiffDriveConfig.from_params(
-        {name: values[name] for name in DiffDriveConfig.names()}, prefix='~')
+    cls = config_class(values)
+    config = cls.from_params({name: values[name] for name in cls.names()},
+                             prefix='~')
     if config.cmd_timeout < 1.0 / values['rate']:
         rospy.logwarn('%s: ~cmd_timeout (%g s) is shorter than one step '
                       '(1/~rate = %g s); the watchdog will stop the base '
                       'between most commands', log_name, config.cmd_timeout,
                       1.0 / values['rate'])
     return config
+
+
+def make_fleet(values, size, log_name):
+    """The model of ``size`` robots the checked ``values`` ask for: a
+    PhysicsFleet (MuJoCo, with the installed URDF) with ~physics, else a
+    DiffDriveFleet. Raises ValueError for a bad value and ImportError
+    (saying how to install it) when ~physics finds no MuJoCo."""
+    config = model_config(values, log_name)
+    if not values['physics']:
+        return DiffDriveFleet(size, config)
+    urdf = os.path.join(rospkg.RosPack().get_path('rbx1_nav'), 'urdf', 'turtlebot.urdf')
+    fleet = PhysicsFleet(size, config, urdf)
+    rospy.loginfo('%s: physics robot (MuJoCo %s): %g kg on %s, motors %g N m, '
+                  'deadband %g rad/s, %g encoder ticks per turn', log_name,
+                  fleet.mujoco_version, config.mass, config.floor, config.motor_torque,
+                  config.motor_deadband, config.encoder_ticks)
+    return fleet
 
 
 def fill_odometry(msg, stamp, frame_id, child, pose, velocity):
