@@ -16,10 +16,15 @@ relative to the run's start is needed:
   2 x ~runs true return positions, clockwise runs first) with ~odometry
   (odometry's, as printed); given ~measurements, the node drives nothing.
 
-It prints the return errors, E_max,syst, Ed, Eb and the factors for the
-driver (diff_drive_controller's three multipliers, a TurtleBot driver's
-odom_angular_scale_correction), writes them to ~results (YAML) and plots
-them to ~plot (PNG), together with an earlier ~compare results file.
+It prints the return errors, each direction's scatter (standard deviation,
+standard error of the centre of gravity), E_max,syst, Ed, Eb and, when the
+data support a correction (a centre of gravity more than 2 standard errors
+from zero, rbx1_nav.umbmark), the factors for the driver
+(diff_drive_controller's three multipliers, a TurtleBot driver's
+odom_angular_scale_correction); otherwise it says that E_max,syst is within
+the noise and about how many runs would be needed. It writes them to
+~results (YAML; corrections null when not supported) and plots them to
+~plot (PNG), together with an earlier ~compare results file.
 
 Parameters (private): ~runs 5, ~side 1.0 m (the paper uses 4 m),
 ~linear_speed 0.2 m/s, ~angular_speed 0.5 rad/s, ~pause 1.0 s (after each
@@ -159,8 +164,11 @@ def analyse(values, odometry, measured):
     runs = values['runs']
     result = umbmark.analyse_runs(odometry, measured, runs, values['side'],
                                   values['wheel_separation'])
-    for line in umbmark.report(result):
+    lines = umbmark.report(result)
+    for line in lines[:-1]:
         rospy.loginfo('%s: %s', NAME, line)
+    (rospy.loginfo if result.supported else rospy.logwarn)('%s: %s', NAME,
+                                                           lines[-1])
     results_path = os.path.abspath(values['results'])
     with open(results_path, 'w') as f:
         yaml.safe_dump({
@@ -168,7 +176,11 @@ def analyse(values, odometry, measured):
             'wheel_separation': values['wheel_separation'],
             'odometry': odometry.tolist(), 'measurements': measured.tolist(),
             'e_max_syst': result.e_max, 'ed': result.ed, 'eb': result.eb,
-            'corrections': umbmark.corrections(result)}, f)
+            'scatter': {label: {'sd': spread.sd, 'se': spread.se} for label, spread
+                        in (('cw', result.scatter_cw), ('ccw', result.scatter_ccw))},
+            'supported': result.supported,
+            'corrections': (umbmark.corrections(result) if result.supported
+                            else None)}, f)
     results, labels = [result], ['this run']
     if values['compare']:
         results, labels = [load(values['compare']), result], ['before', 'after']

@@ -59,6 +59,7 @@ class UmbmarkTest(unittest.TestCase):
             status, output = umbmark(dict(params, results=before_file,
                                           plot=os.path.join(self.dir, 'before.png')))
             self.assertEqual(status, 0, output)
+            self.assertIn('the correction is supported', output)
             with open(before_file) as f:
                 before = yaml.safe_load(f)
             factors = before['corrections']

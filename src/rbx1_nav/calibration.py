@@ -21,25 +21,33 @@ from rbx1_nav.motion import Course, Drive, Pause, Turn
 from rbx1_nav.transform_utils import normalize_angle
 
 __all__ = ['Kind', 'LINEAR', 'ANGULAR', 'PoseTrack', 'course', 'measure',
-           'correction', 'report']
+           'correction', 'report', 'far_from_one', 'USUAL', 'MAX_RATIO']
 
 Kind = namedtuple('Kind', 'name goal measured correction unit speed_unit '
-                         'quantity unit_name moved')
+                         'quantity unit_name moved causes')
 Kind.__doc__ = """One kind of calibration test: the names of its config
 fields (goal, measured, correction), the units users give goals, tolerances
-and speeds in, the quantity measured, the unit's name and the verb of the
-motion."""
+and speeds in, the quantity measured, the unit's name, the verb of the
+motion, and the usual causes of a factor far from 1."""
 
 LINEAR = Kind('linear', 'test_distance', 'measured_distance',
               'odom_linear_scale_correction', 'm', 'm/s', 'distance', 'metres',
-              'travelled')
+              'travelled', "a wrong wheel radius or encoder ticks per "
+              "revolution in the driver's parameters, tracks or wheels that "
+              "slip, or a measurement in the wrong unit (give metres)")
 ANGULAR = Kind('angular', 'test_angle', 'measured_angle',
                'odom_angular_scale_correction', 'deg', 'rad/s', 'angle',
-               'degrees', 'turned')
+               'degrees', 'turned', "a skid-steer or tracked base (its wheels "
+               "slide sideways in a turn: factors of 0.3 to 0.5 are normal), "
+               "a wrong wheel base (wheel separation) in the driver's "
+               "parameters, or a measurement in the wrong unit (give degrees)")
 
-# A measurement this far from odometry is a wrong unit or a typo, not a
-# calibration (the config fields allow corrections of 0.5 to 2).
-MAX_RATIO = 2.0
+# Factors a calibrated differential drive usually needs; outside them the
+# factor is still used, with a warning naming the usual causes.
+USUAL = (0.8, 1.25)
+# A measured / odometry ratio beyond 1 / MAX_RATIO .. MAX_RATIO says one of
+# them saw no motion (the robot's driver accepts factors up to 100 too).
+MAX_RATIO = 100.0
 
 
 def course(kind, config, settle):
@@ -96,24 +104,49 @@ class PoseTrack(object):
 
 
 def correction(kind, odometry, measured):
-    """measured / odometry, checked; ValueError with the reason if unusable."""
+    """measured / odometry, checked; ValueError with the reason if unusable.
+
+    Any physically possible factor is accepted: refused are only a
+    measurement or odometry that is zero, negative, NaN or infinite, and
+    a ratio beyond 1 / MAX_RATIO .. MAX_RATIO, which says the robot did not
+    move (or its odometry saw no motion). :func:`far_from_one` tells
+    whether a factor is unusual.
+    """
     for name, value in (('odometry', odometry), ('measured', measured)):
         if not (isinstance(value, (int, float)) and math.isfinite(value)
                 and value > 0.0):
             raise ValueError('the %s %s must be a positive number, got %r'
                              % (name, kind.quantity, value))
     ratio = measured / odometry
-    if not 1.0 / MAX_RATIO <= ratio <= MAX_RATIO:
+    if ratio < 1.0 / MAX_RATIO:
         raise ValueError(
-            'the measured %s (%g %s) differs from odometry (%g %s) by more '
-            'than a factor %g: a wrong unit (%s) or a typo?' % (
-                kind.quantity, measured, kind.unit, odometry, kind.unit,
-                MAX_RATIO, kind.unit_name))
+            'the measured %s (%g %s) is under 1/%g of what odometry reports '
+            '(%g %s): the robot did not move (wheels off the ground?), or the '
+            'measurement is wrong' % (kind.quantity, measured, kind.unit,
+                                      MAX_RATIO, odometry, kind.unit))
+    if ratio > MAX_RATIO:
+        raise ValueError(
+            'odometry reports %g %s, under 1/%g of the measured %s (%g %s): '
+            'odometry did not see the robot move (encoders not counting?), '
+            'or the measurement is wrong' % (odometry, kind.unit, MAX_RATIO,
+                                             kind.quantity, measured, kind.unit))
     return ratio
 
 
+def far_from_one(kind, factor):
+    """A warning for a factor outside :data:`USUAL`, naming the usual
+    causes; None for a usual one."""
+    if USUAL[0] <= factor <= USUAL[1]:
+        return None
+    return ('%s %.4f is far from 1 (outside %g..%g). Usual causes: %s. The '
+            'factor is still right for this robot if the measurement is '
+            % (kind.correction, factor, USUAL[0], USUAL[1], kind.causes)
+            + 'right; check those causes first.')
+
+
 def report(kind, odometry, measured, source, node_factor=1.0):
-    """The lines that tell the user what to set, arithmetic shown.
+    """(lines, warning): the lines that tell the user what to set,
+    arithmetic shown, and :func:`far_from_one`'s warning or None.
 
     ``odometry`` is what the driver reported; ``node_factor`` the node's own
     correction field, which the test applied on top (a candidate factor
@@ -134,4 +167,4 @@ def report(kind, odometry, measured, source, node_factor=1.0):
                      kind.correction, total, '' if node_factor == 1.0 else
                      " (this node's %.4f x %.4f)" % (node_factor, factor),
                      total))
-    return lines
+    return lines, far_from_one(kind, total)

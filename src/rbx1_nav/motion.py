@@ -29,7 +29,9 @@ Rules shared by every course, as in the book:
   drive's starting heading, and ignores the tolerance; it also steers by
   where the robot will be when its command lands, not by where an old pose
   says it was (:class:`InFlight`), and checks each goal once the robot
-  stands still, going back or on when it missed (``_OnOdometry``).
+  stands still, going back or on when it missed (``_OnOdometry``); and it
+  raises its creep speed where the robot will not move at it
+  (:class:`Breakaway`).
 """
 import bisect
 import math
@@ -41,7 +43,8 @@ from rbx1_nav.params import param
 from rbx1_nav.transform_utils import Pose2D, normalize_angle
 
 __all__ = ['Command', 'STOP', 'Approach', 'Drive', 'Turn', 'TimedDrive',
-           'TimedTurn', 'Pause', 'Course', 'InFlight', 'Stalls', 'legs_course',
+           'TimedTurn', 'Pause', 'Course', 'InFlight', 'Stalls', 'Breakaway',
+           'legs_course',
            'pose_error', 'MAX_LINEAR_SPEED', 'MAX_ANGULAR_SPEED', 'PRECISE_PARAMS',
            'approach', 'legs_params']
 
@@ -231,12 +234,55 @@ class _Turn(Step):
         return Pose2D(pose.x, pose.y, normalize_angle(pose.yaw + self.goal))
 
 
+class Breakaway(object):
+    """Precise mode's creep speeds, raised where the robot will not move.
+
+    Real wheels stick below a breakaway speed (static friction, a motor
+    deadband; a skid-steer base turning on the spot needs far more), and a
+    precise step creeping below it would wait for ever. When a precise
+    step slowing down to its goal has commanded a speed below its own for
+    STILL s since the command reached the robot, and odometry moved under a
+    tenth of that (as :class:`Stalls` counts a stall), the step raises its
+    creep speed to FACTOR times the command (at most the step's speed), and
+    again until the robot moves. Then the course logs the new minimum once,
+    and every later drive (or turn) of the course creeps at it or faster:
+    ``speeds`` holds it per kind. A runner hands the same object to each
+    course it drives, so later courses keep it too.
+    """
+
+    STILL = 0.5  # s
+    FACTOR = 1.5
+
+    def __init__(self):
+        self.speeds = {DRIVE: 0.0, TURN: 0.0}  # the learned minima
+        self.pending = {}  # kind: speed stalled at, until motion shows
+
+    def raise_to(self, kind, stalled, speed):
+        """The robot stood still at ``stalled``; creep at ``speed`` now."""
+        self.pending.setdefault(kind, stalled)
+        self.speeds[kind] = max(self.speeds[kind], speed)
+
+    def moved(self, kind, course, unit):
+        """The robot moved: log a new minimum once."""
+        stalled = self.pending.pop(kind, None)
+        if stalled is not None:
+            name = 'linear' if kind == DRIVE else 'angular'
+            course.log('precise mode: the robot stood still at %.4g %s and '
+                       'moved at %.4g %s, below its breakaway speed; creeping '
+                       'at %.4g %s or faster from now on (set '
+                       '~precise_min_%s_speed to it to start there)'
+                       % (stalled, unit, self.speeds[kind], unit,
+                          self.speeds[kind], unit, name))
+
+
 class _OnOdometry(object):
     """Closed loop on odometry: a mixin for Drive and Turn.
 
     They define ``remaining`` (what is left of the goal, negative past it),
-    ``moving`` (the command at a speed along the goal, negative: back) and
-    ``creep`` (precise mode's creep speed). Precise mode checks each goal
+    ``moving`` (the command at a speed along the goal, negative: back),
+    ``advance`` (the progress between two poses) and ``approach``'s creep
+    speed. Precise mode raises a creep speed the robot will not move at
+    (:class:`Breakaway`) and checks each goal
     on a still robot: once the stop it sent at the goal has reached the
     robot and SETTLE s have passed since the last motion its odometry
     showed (LONGEST s at most), a goal missed by more than CHECK s of creep
@@ -255,6 +301,7 @@ class _OnOdometry(object):
         self.sense = 1.0  # 1: short of the goal; -1: back from past it
         self.stopped = None  # when precise mode sent the stop to check
         self.corrections = 0
+        self.mark = None  # (time sent, pose): where a stall watch began
 
     def update(self, course, pose, now):
         remaining = self.remaining(course, pose)
@@ -265,18 +312,51 @@ class _OnOdometry(object):
             return self.moving(course, pose, self.speed)
         if self.stopped is None:
             if remaining * self.sense > 0.0:
-                speed = _clamp(ap.gain * abs(remaining), self.creep(), self.speed)
+                speed = _clamp(ap.gain * abs(remaining), self.creep(course),
+                               self.speed)
+                speed = self._unstick(course, now, speed)
                 return self.moving(course, pose, self.sense * speed)
-            self.stopped = now
+            self.stopped, self.mark = now, None
         if not course.settled(self.stopped, self.SETTLE, self.LONGEST):
             return STOP
-        if abs(remaining) <= self.creep() * self.CHECK:
+        if abs(remaining) <= self.creep(course) * self.CHECK:
             return self._end(course, now)
         if self.corrections == self.MAX_CORRECTIONS:
             return self._end(course, now, remaining)
         self.corrections += 1
         self.stopped, self.sense = None, math.copysign(1.0, remaining)
         return self.update(course, pose, now)
+
+    def creep(self, course):
+        """The creep speed: precise mode's, or the breakaway speed learned
+        (:class:`Breakaway`), at most the step's speed."""
+        minimum = (self.approach.min_linear_speed if self.kind == DRIVE
+                   else self.approach.min_angular_speed)
+        return min(self.speed, max(minimum, course.breakaway.speeds[self.kind]))
+
+    def _unstick(self, course, now, speed):
+        """``speed``, or more where the robot stood still at it
+        (:class:`Breakaway`), judged on the poses odometry gave, not on
+        their predictions."""
+        mark = self.mark
+        if mark is None or course.held >= mark[0]:  # a new watch
+            self.mark = (now, course.raw)
+            return speed
+        landed = mark[0] + course.in_flight.delay
+        elapsed = course.stamp - landed
+        if elapsed < Breakaway.STILL:
+            return speed
+        self.mark = (now, course.raw)
+        unit = 'm/s' if self.kind == DRIVE else 'rad/s'
+        if self.sense * self.advance(mark[1], course.raw) >= 0.1 * speed * elapsed:
+            course.breakaway.moved(self.kind, course, unit)
+            return speed
+        if speed >= self.speed:
+            return speed  # not a creep: a watchdog or a bumper (Stalls)
+        raised = min(self.speed, Breakaway.FACTOR * speed)
+        course.breakaway.raise_to(self.kind, speed, raised)
+        course.stalls.excuse(course.stamp + Breakaway.STILL)
+        return raised
 
     def _end(self, course, now, missed=None):
         """Log the step's end (with its corrections) and end it."""
@@ -314,8 +394,10 @@ class Drive(_OnOdometry, _Drive):
     def done(course):
         return course.distance
 
-    def creep(self):
-        return self.approach.min_linear_speed
+    def advance(self, before, after):
+        """How much farther from the start ``after`` is than ``before``."""
+        return (math.hypot(after.x - self.start.x, after.y - self.start.y)
+                - math.hypot(before.x - self.start.x, before.y - self.start.y))
 
     def moving(self, course, pose, speed):
         angular = 0.0
@@ -346,8 +428,9 @@ class Turn(_OnOdometry, _Turn):
     def done(course):
         return course.turned
 
-    def creep(self):
-        return self.approach.min_angular_speed
+    def advance(self, before, after):
+        """The turn from ``before`` to ``after`` in the goal's direction."""
+        return math.copysign(1.0, self.goal) * normalize_angle(after.yaw - before.yaw)
 
     def moving(self, course, pose, speed):
         return self.command(math.copysign(1.0, self.goal) * speed)
@@ -469,6 +552,7 @@ class Stalls(object):
         self.seconds = 0.0
         self.since = None  # start of the current spell
         self.moved = None
+        self.excused = -math.inf  # a spell counts from here on at the earliest
 
     def velocity(self, stamp, linear, angular):
         """The robot's measured velocity at ``stamp`` (s); returns the
@@ -484,9 +568,16 @@ class Stalls(object):
             return None
         return self.end(stamp)
 
+    def excuse(self, until):
+        """Standing still until ``until`` (s) is explained (precise mode
+        found the robot's breakaway speed): not a spell."""
+        self.excused = max(self.excused, until)
+
     def end(self, stamp):
         """Close a spell at ``stamp``; its length (s) if it counts, else None."""
         since, self.since = self.since, None
+        if since is not None:
+            since = max(since, self.excused)
         if since is None or stamp - since < self.minimum:
             return None
         self.count += 1
@@ -505,7 +596,9 @@ class Course(object):
     ``turned`` and ``distance`` the progress of the latest turn and drive.
     ``in_flight`` holds the commands it returned; a course with a precise
     step steers by its predictions. ``stalls`` counts the spells the robot
-    stood still while commanded to move, from the velocities fed to it.
+    stood still while commanded to move, from the velocities fed to it;
+    ``breakaway`` holds the creep speeds precise steps learned
+    (:class:`Breakaway`; a runner may set its own before the first update).
     """
 
     def __init__(self, steps):
@@ -524,9 +617,12 @@ class Course(object):
         self.turned = 0.0
         self.distance = 0.0
         self.stamp = None  # of the pose last fed in (s)
+        self.raw = None  # that pose, as read (before any prediction)
+        self.held = -math.inf  # the last time hold() was called (s)
         self.predicts = any(getattr(step, 'approach', None) for step in self.steps)
         self.in_flight = InFlight()
         self.stalls = Stalls(self.in_flight)
+        self.breakaway = Breakaway()
 
     @property
     def done(self):
@@ -570,7 +666,7 @@ class Course(object):
             raise ValueError('pose has a non-finite value: %r (age %r)'
                              % (pose, age))
         now = float(now)
-        self.stamp = now - age
+        self.stamp, self.raw = now - age, pose
         self.in_flight.read(age)
         if self.predicts:
             pose = self.in_flight.predict(pose, now, age)
@@ -582,7 +678,7 @@ class Course(object):
         """STOP at ``now`` (s) without a pose: the transform is stale (a
         link dropout). Recorded like any command, so predictions and the
         stall count know the robot was told to stand still."""
-        self._now = float(now)
+        self._now = self.held = float(now)
         self.in_flight.record(self._now, STOP)
         return STOP
 

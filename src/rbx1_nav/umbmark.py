@@ -34,7 +34,35 @@ The measure of the result is E_max,syst, the larger distance of the two
 centres of gravity from the origin. The corrections follow
 diff_drive_controller's names: each wheel radius multiplied by 2 / (Ed + 1)
 (left) and 2 / (1 / Ed + 1) (right), which keeps their mean, and the wheel
-separation by Eb. No rospy here.
+separation by Eb.
+
+Random errors scatter the return positions too, and with few runs or a
+noisy robot the centres of gravity may lie as far from zero as the scatter
+puts them by chance: then the "correction" is noise, and setting it makes
+the robot worse. So each cluster's scatter is reported,
+
+    s  = sqrt(sum |e_i - cg|^2 / (n - 1))   standard deviation of the n
+                                            return positions about their
+                                            centre of gravity (x and y
+                                            together)
+    se = s / sqrt(n)                        standard error of the centre
+                                            of gravity
+
+and the correction is *supported* when at least one centre of gravity lies
+farther from zero than chance puts it in ``FALSE_ALARM`` (5 %) of
+benchmarks of a robot without systematic errors: for each cluster,
+
+    |cg| / se > k(n),  k(n)^2 = (d / 2) ((FALSE_ALARM / 2)^(-2 / d) - 1),
+    d = 2 (n - 1)
+
+the exact test for the mean of n points with the same Gaussian scatter in
+x and y (|cg|^2 / se^2 follows the F distribution with 2 and d degrees of
+freedom), at FALSE_ALARM / 2 per cluster. k is about 2 standard errors:
+2.5 for 5 runs, 2.0 for 20, 1.9 for very many; 6.2 for 2 runs, whose
+scatter is itself a rough guess. One run each way shows no scatter and
+supports nothing. When a correction is not supported, the runs each way
+that would make a systematic error of the size measured stand out are the
+smallest n with |cg| sqrt(n) / s > k(n). No rospy here.
 """
 import math
 from collections import namedtuple
@@ -44,10 +72,12 @@ import numpy as np
 from rbx1_nav.motion import Course, Drive, Pause, Turn
 
 __all__ = ['relative', 'square_course', 'check_errors', 'analyse',
-           'analyse_runs', 'Result',
+           'analyse_runs', 'Result', 'Scatter', 'FALSE_ALARM', 'critical',
+           'runs_needed',
            'corrections', 'report', 'plot']
 
 CW, CCW = 'cw', 'ccw'
+FALSE_ALARM = 0.05  # chance of a correction "supported" by noise alone
 
 
 def relative(start, end):
@@ -99,10 +129,54 @@ def check_errors(errors, runs, side, name='errors'):
 
 
 Result = namedtuple('Result', 'side wheel_separation cw ccw cg_cw cg_ccw '
-                              'e_max alpha beta ed eb')
+                              'e_max alpha beta ed eb scatter_cw scatter_ccw '
+                              'supported')
 Result.__doc__ = """What UMBmark found: the return errors of each direction
 (arrays of [x, y]), their centres of gravity, E_max,syst (m), alpha and beta
-(rad), Ed and Eb."""
+(rad), Ed and Eb, each cluster's :class:`Scatter`, and whether the data
+support a correction (see the module's docstring)."""
+
+Scatter = namedtuple('Scatter', 'runs sd se distance')
+Scatter.__doc__ = """A cluster's scatter: its number of runs, the standard
+deviation of its return positions about their centre of gravity and the
+standard error of that centre (m; NaN for one run), and the centre's
+distance from zero in standard errors (NaN for one run)."""
+
+
+def critical(runs):
+    """k(runs): the standard errors from zero beyond which a centre of
+    gravity of ``runs`` return positions is not chance (module docstring)."""
+    d = 2.0 * (runs - 1)
+    return math.sqrt(d / 2.0 * ((FALSE_ALARM / 2.0) ** (-2.0 / d) - 1.0))
+
+
+def scatter(errors, cg):
+    """The :class:`Scatter` of the return ``errors`` about ``cg``."""
+    n = len(errors)
+    if n < 2:
+        return Scatter(n, math.nan, math.nan, math.nan)
+    sd = math.sqrt(float(np.sum((errors - cg) ** 2)) / (n - 1))
+    se = sd / math.sqrt(n)
+    distance = math.hypot(*cg)
+    if se == 0.0:  # identical runs (a simulator without noise)
+        return Scatter(n, sd, se, math.inf if distance > 0.0 else 0.0)
+    return Scatter(n, sd, se, distance / se)
+
+
+def runs_needed(result, most=1000):
+    """About how many runs each way would make a systematic error of the
+    size measured stand out from the scatter measured: the fewer of the two
+    clusters'; None when there is no scatter to go by (one run), inf past
+    ``most``."""
+    needed = []
+    for cg, spread in ((result.cg_cw, result.scatter_cw),
+                       (result.cg_ccw, result.scatter_ccw)):
+        if math.isnan(spread.sd):
+            continue
+        ratio = math.hypot(*cg) / spread.sd if spread.sd > 0 else math.inf
+        needed.append(next((n for n in range(2, most + 1)
+                            if ratio * math.sqrt(n) > critical(n)), math.inf))
+    return min(needed) if needed else None
 
 
 def analyse(cw, ccw, side, wheel_separation):
@@ -120,8 +194,12 @@ def analyse(cw, ccw, side, wheel_separation):
         half = wheel_separation / 2.0
         ed = (radius + half) / (radius - half)
     eb = (math.pi / 2.0) / (math.pi / 2.0 - alpha)
+    scatters = scatter(cw, cg_cw), scatter(ccw, cg_ccw)
+    supported = any(spread.runs > 1 and spread.distance > critical(spread.runs)
+                    for spread in scatters)
     return Result(side, wheel_separation, cw, ccw, cg_cw, cg_ccw, float(e_max),
-                  float(alpha), float(beta), float(ed), float(eb))
+                  float(alpha), float(beta), float(ed), float(eb), *scatters,
+                  supported)
 
 
 def analyse_runs(odometry, measured, runs, side, wheel_separation):
@@ -146,11 +224,22 @@ def corrections(result):
 
 
 def report(result):
-    """The lines that tell the user what was measured and what to set."""
+    """The lines that tell the user what was measured and, when the data
+    support it, what to set; else why not and how many runs would do."""
     lines = []
     for label, errors in ((CW, result.cw), (CCW, result.ccw)):
         lines.append('%s return errors (x, y mm): %s' % (label, ', '.join(
             '(%+.1f, %+.1f)' % (1000 * x, 1000 * y) for x, y in errors)))
+    lines.append('scatter: %s' % '; '.join(
+        '%s %d run%s, %s' % (label, spread.runs, 's' * (spread.runs > 1),
+                             'no scatter measurable' if math.isnan(spread.sd)
+                             else 'standard deviation %.1f mm, centre of '
+                             'gravity +- %.1f mm (standard error), %.1f '
+                             'standard errors from zero' % (
+                                 1000 * spread.sd, 1000 * spread.se,
+                                 spread.distance))
+        for label, spread in ((CW, result.scatter_cw),
+                              (CCW, result.scatter_ccw))))
     lines += [
         'centres of gravity: cw (%+.1f, %+.1f) mm, ccw (%+.1f, %+.1f) mm; '
         'E_max,syst %.1f mm' % (1000 * result.cg_cw[0], 1000 * result.cg_cw[1],
@@ -161,6 +250,12 @@ def report(result):
         'Ed (right/left wheel diameter) %.5f, Eb (true/assumed wheel base) %.5f'
         % (result.ed, result.eb),
     ]
+    if not result.supported:
+        return lines + [unsupported(result)]
+    lines.append('E_max,syst is beyond the noise (a centre of gravity '
+                 'farther from zero than chance puts it in %g %% of '
+                 'benchmarks): the correction is supported'
+                 % (100 * FALSE_ALARM))
     factors = corrections(result)
     lines.append(
         'diff_drive_controller: multiply left_wheel_radius_multiplier by '
@@ -174,6 +269,28 @@ def report(result):
         '(removes Eb); Ed needs per-wheel radii, which that driver does not '
         'have' % factors['odom_angular_scale_correction'])
     return lines
+
+
+def unsupported(result):
+    """The line saying that the correction is noise, and what would do."""
+    needed = runs_needed(result)
+    runs = min(result.scatter_cw.runs, result.scatter_ccw.runs)
+    if needed is None:
+        more = ('with one run each way no scatter can be measured: run at '
+                'least 2 each way (5 or more is better)')
+    elif math.isinf(needed):
+        more = ('over 1000 runs each way would be needed: no systematic '
+                'error shows against this scatter')
+    else:
+        more = ('about %d runs each way (%d more) would tell a systematic '
+                'error of this size from the scatter' % (
+                    max(needed, runs + 1), max(needed - runs, 1)))
+    return ('E_max,syst %.1f mm is within the noise: neither centre of '
+            'gravity lies farther from zero than chance puts it in %g %% of '
+            'benchmarks (%.1f standard errors for %d runs), so the data do '
+            'not support a correction and none is given (setting one would '
+            'correct noise); %s' % (1000 * result.e_max, 100 * FALSE_ALARM,
+                                    critical(max(runs, 2)), runs, more))
 
 
 def plot(results, path, labels=None):

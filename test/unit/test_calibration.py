@@ -1,11 +1,15 @@
 """Unit tests for rbx1_nav.calibration: the tests' courses and the arithmetic."""
+import ast
 import math
+import os
 
 import pytest
 
 from ideal_robot import IdealRobot, run
-from rbx1_nav.calibration import (ANGULAR, LINEAR, PoseTrack, correction,
-                                  course, measure, report)
+from rbx1_nav.calibration import (ANGULAR, LINEAR, USUAL, PoseTrack,
+                                  correction, course, far_from_one, measure,
+                                  report)
+from rbx1_nav.diff_drive import DiffDriveConfig
 from rbx1_nav.transform_utils import Pose2D, normalize_angle
 
 LINEAR_CONFIG = {'test_distance': 1.0, 'speed': 0.15, 'tolerance': 0.01,
@@ -76,7 +80,9 @@ def test_the_node_side_correction_scales_the_goal():
 
 def test_with_a_candidate_factor_in_the_node_the_report_gives_the_residual():
     # Odometry over-reports rotation by 5 %; the node already applies 0.95.
-    lines = report(ANGULAR, 380.0, 361.0, 'ground truth', node_factor=0.95)
+    lines, warning = report(ANGULAR, 380.0, 361.0, 'ground truth',
+                            node_factor=0.95)
+    assert warning is None
     assert 'x this node\'s odom_angular_scale_correction 0.9500 = 361.0000 deg' \
         in lines[0]
     assert lines[1].endswith('= 361.0000 / 361.0000 = 1.0000')
@@ -94,20 +100,23 @@ def test_pose_track_counts_a_full_turn_as_360_degrees():
 
 
 def test_report_shows_the_arithmetic_and_the_value_to_set():
-    lines = report(LINEAR, 1.07, 1.0, 'ground truth')
+    lines, _ = report(LINEAR, 1.07, 1.0, 'ground truth')
     assert lines[0] == ('linear test: odometry 1.0700 m, measured 1.0000 m '
                         '(ground truth)')
     assert lines[1] == ('odom_linear_scale_correction = measured / odometry = '
                         '1.0000 / 1.0700 = 0.9346')
     assert '0.9346' in lines[2] and 'driver' in lines[2]
-    assert 'odom_angular_scale_correction' in report(ANGULAR, 360, 380, 'x')[1]
+    assert 'odom_angular_scale_correction' in report(ANGULAR, 360, 380, 'x')[0][1]
 
 
 @pytest.mark.parametrize('odometry, measured, words', [
     (1.0, float('nan'), 'measured distance must be a positive number'),
+    (1.0, float('inf'), 'measured distance must be a positive number'),
     (1.0, -1.0, 'measured distance must be a positive number'),
+    (1.0, 0.0, 'measured distance must be a positive number'),
     (0.0, 1.0, 'odometry distance must be a positive number'),
-    (1.0, 100.0, r'differs from odometry .* factor 2: a wrong unit \(metres\)'),
+    (1.0, 0.002, r'under 1/100 of what odometry reports .*: the robot did not move'),
+    (0.005, 1.0, r'odometry did not see the robot move'),
     (1.0, 'one', 'measured distance must be a positive number'),
 ])
 def test_unusable_measurements_are_refused_with_the_reason(odometry, measured,
@@ -116,6 +125,59 @@ def test_unusable_measurements_are_refused_with_the_reason(odometry, measured,
         report(LINEAR, odometry, measured, 'tape')
 
 
-def test_an_angle_in_radians_is_caught_as_a_wrong_unit():
-    with pytest.raises(ValueError, match=r'wrong unit \(degrees\)'):
-        correction(ANGULAR, 360.0, 2 * math.pi)
+@pytest.mark.parametrize('kind, odometry, measured', [
+    (ANGULAR, 360.0, 106.0),  # the Husky (skid steer): 0.29
+    (ANGULAR, 360.0, 1080.0),
+    (LINEAR, 1.0, 0.3),
+    (LINEAR, 1.0, 3.0),
+])
+def test_a_factor_far_from_one_is_given_with_a_warning_naming_the_causes(
+        kind, odometry, measured):
+    lines, warning = report(kind, odometry, measured, 'ground truth')
+    factor = measured / odometry
+    assert lines[1].endswith('= %.4f' % factor)
+    assert 'typo' not in warning and 'Usual causes' in warning
+    assert '%s %.4f is far from 1' % (kind.correction, factor) in warning
+    assert ('skid-steer' in warning and 'wheel base' in warning) \
+        if kind is ANGULAR else 'wheel radius' in warning
+    assert 'wrong unit (give %s)' % kind.unit_name in warning
+
+
+def test_usual_factors_get_no_warning():
+    for factor in (USUAL[0], 0.95, 1.0, 1.07, USUAL[1]):
+        assert far_from_one(ANGULAR, factor) is None
+    assert far_from_one(LINEAR, USUAL[0] - 0.01) is not None
+    assert far_from_one(LINEAR, USUAL[1] + 0.01) is not None
+
+
+def test_an_angle_in_radians_gets_a_factor_with_the_unit_warning():
+    factor = correction(ANGULAR, 360.0, 2 * math.pi)
+    assert factor == pytest.approx(2 * math.pi / 360.0)
+    assert 'wrong unit (give degrees)' in far_from_one(ANGULAR, factor)
+
+
+def _cfg_limits(name, field):
+    """(default, min, max) of ``field`` in cfg/``name``.cfg."""
+    path = os.path.join(os.path.dirname(__file__), '..', '..', 'cfg',
+                        name + '.cfg')
+    with open(path) as f:
+        tree = ast.parse(f.read())
+    for node in ast.walk(tree):
+        if (isinstance(node, ast.Call) and getattr(node.func, 'attr', '') == 'add'
+                and ast.literal_eval(node.args[0]) == field):
+            return tuple(ast.literal_eval(a) for a in node.args[4:7])
+    raise AssertionError('%s not in %s.cfg' % (field, name))
+
+
+@pytest.mark.parametrize('factor', [0.3, 0.5, 1.875, 3.0])
+def test_the_config_fields_and_the_driver_take_factors_far_from_one(factor):
+    for cfg, kind in (('CalibrateLinear', LINEAR), ('CalibrateAngular', ANGULAR)):
+        _, low, high = _cfg_limits(cfg, kind.correction)
+        assert low <= factor <= high
+        goal_max = _cfg_limits(cfg, kind.goal)[2]
+        assert _cfg_limits(cfg, kind.measured)[2] >= 3.0 * goal_max
+    config = DiffDriveConfig.from_params({
+        'odom_linear_scale_correction': factor,
+        'odom_angular_scale_correction': factor,
+        'wheel_separation_multiplier': factor})
+    assert config.problems() == []

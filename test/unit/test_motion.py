@@ -310,3 +310,80 @@ def test_control_rates_count_ticks_on_whole_seconds_once():
     # Far from zero, 8.71 + k * 0.05 rounds some whole seconds just under.
     ticks = [8.71 + k * 0.05 for k in range(401)]
     assert control_rates(ticks)[1] == 20
+
+
+class Sticky(IdealRobot):
+    """An ideal robot whose wheels stick below a breakaway speed: a turn
+    rate under ``angular`` rad/s (on the spot) or a speed under ``linear``
+    m/s runs as a stop. It tells the velocity it ran, as odometry does."""
+
+    def __init__(self, linear=0.02, angular=0.05, delay=0):
+        IdealRobot.__init__(self, delay=delay)
+        self.breakaway = (linear, angular)
+
+    def step(self, cmd, dt):
+        linear, angular = cmd
+        if abs(linear) < self.breakaway[0]:
+            linear = 0.0
+            if abs(angular) < self.breakaway[1]:
+                angular = 0.0
+        return IdealRobot.step(self, Command(linear, angular), dt)
+
+
+def test_precise_mode_learns_the_breakaway_speed_and_keeps_it():
+    # Creep speeds 0.005 m/s and 0.01 rad/s, below where the wheels move:
+    # without the breakaway the course would wait for ever at its first goal.
+    robot = Sticky(delay=1)
+    course = Course(legs_course(1.0, math.pi / 2, 2, 0.2, 0.5, pause=0.5,
+                                approach=PRECISE))
+    rows = run(course, robot, limit=200.0)
+    learned = course.breakaway.speeds
+    # Raised 1.5x at a time until the robot moved: at most 1.5x the breakaway.
+    assert 0.02 <= learned['drive'] < 0.03 and 0.05 <= learned['turn'] < 0.075
+    # Each drive and turn ends within precise mode's check, 0.1 s of its
+    # creep speed (the learned one), of its goal.
+    log = course.pop_events()
+    drives = [float(d) for d in re.findall(r'drove ([\d.]+) m', ' '.join(log))]
+    turns = [float(a) for a in re.findall(r'turned ([\d.]+) deg', ' '.join(log))]
+    assert len(drives) == len(turns) == 2, log
+    assert all(abs(d - 1.0) <= 0.1 * learned['drive'] + 5e-4 for d in drives), log
+    assert all(abs(a - 90.0) <= math.degrees(0.1 * learned['turn']) + 0.05
+               for a in turns), log
+    events = [e for e in log if 'breakaway' in e]
+    assert len(events) == 2, events  # one line per kind, logged once
+    assert re.match(r'precise mode: the robot stood still at [\d.]+ rad/s and '
+                    r'moved at 0\.0\d+ rad/s, below its breakaway speed; '
+                    r'creeping at 0\.0\d+ rad/s or faster from now on \(set '
+                    r'~precise_min_angular_speed', [e for e in events
+                                                    if 'rad/s' in e][0])
+    # The second leg creeps at the learned speeds from the start: no
+    # command below them, no stall.
+    leg2 = next(i for i, row in enumerate(rows) if row[1] == 'drive'
+                and any(r[1] == 'turn' for r in rows[:i]))
+    second = [c for _, _, c in rows[leg2:]]
+    assert min(abs(c.angular) for c in second if c.angular and not c.linear) \
+        >= learned['turn'] - 1e-12
+    assert min(abs(c.linear) for c in second if c.linear) >= learned['drive'] - 1e-12
+    # The spells the wheels stuck were the breakaway's, not a watchdog's.
+    assert course.stalls.count == 0
+
+    # A later course of the same runner starts at the learned speeds.
+    again = Course([Turn(-math.pi / 2, 0.5, approach=PRECISE)])
+    again.breakaway = course.breakaway
+    run(again, robot, limit=100.0)
+    assert not [e for e in again.pop_events() if 'breakaway' in e]
+    assert again.stalls.count == 0
+
+
+def test_a_stall_at_full_speed_is_left_to_the_stall_count():
+    # Motors off for 2 s at the start: the robot stands still at the
+    # step's own speed, which no creep speed explains.
+    class MotorsOff(IdealRobot):
+        def step(self, cmd, dt):
+            self.t = getattr(self, 't', 0.0) + dt
+            return IdealRobot.step(self, STOP if self.t <= 2.0 else cmd, dt)
+
+    course = Course([Drive(0.5, 0.2, approach=PRECISE)])
+    run(course, MotorsOff())
+    assert course.breakaway.speeds == {'drive': 0.0, 'turn': 0.0}
+    assert course.stalls.count == 1 and course.stalls.seconds >= 1.9

@@ -2,12 +2,14 @@
 driven round the squares on its own odometry, must give them back."""
 import math
 
+import numpy as np
 import pytest
 
 from ideal_robot import run
 from rbx1_nav.motion import Approach
-from rbx1_nav.umbmark import (analyse, check_errors, corrections, plot,
-                              relative, report, square_course)
+from rbx1_nav.umbmark import (FALSE_ALARM, analyse, check_errors, corrections,
+                              critical, plot, relative, report, runs_needed,
+                              square_course)
 from rbx1_nav.transform_utils import Pose2D, normalize_angle
 
 PRECISE = Approach(1.0, 4.0, 0.005, 0.01)
@@ -143,3 +145,81 @@ def test_plot_writes_a_png(tmp_path):
     path = tmp_path / 'umbmark.png'
     plot([before, after], str(path), ['before', 'after'])
     assert path.read_bytes()[:8] == b'\x89PNG\r\n\x1a\n'
+
+
+def cluster(cg, spread):
+    """Four return errors about ``cg`` (m) with standard deviation
+    ``spread`` * sqrt(4 / 3) about it (x and y together)."""
+    return [[cg[0] + dx * spread, cg[1] + dy * spread]
+            for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1))]
+
+
+def test_each_cluster_reports_its_scatter_and_the_standard_error():
+    result = analyse(cluster((0.03, 0.0), 0.035), cluster((-0.02, 0.01), 0.035),
+                     1.0, B)
+    sd = 0.035 * math.sqrt(4 / 3)
+    for spread in (result.scatter_cw, result.scatter_ccw):
+        assert spread.runs == 4
+        assert spread.sd == pytest.approx(sd)
+        assert spread.se == pytest.approx(sd / 2)
+    assert result.scatter_cw.distance == pytest.approx(0.03 / (sd / 2))
+    text = '\n'.join(report(result))
+    assert ('cw 4 runs, standard deviation 40.4 mm, centre of gravity +- '
+            '20.2 mm (standard error), 1.5 standard errors from zero') in text
+
+
+def test_a_correction_within_the_noise_is_not_given_and_says_how_many_runs():
+    # The Husky's case: return positions scattered by 30-40 mm, as far as
+    # the centres of gravity lie from zero.
+    result = analyse(cluster((0.03, 0.0), 0.035), cluster((-0.02, 0.01), 0.035),
+                     1.0, B)
+    assert not result.supported
+    lines = report(result)
+    assert not any('multiply' in line for line in lines)
+    needed = runs_needed(result)
+    # |cg| sqrt(n) / s > k(n): about (k s / |cg|)^2 runs, k about 2.
+    assert 8 <= needed <= 12
+    assert 0.03 * math.sqrt(needed) / (0.035 * math.sqrt(4 / 3)) > critical(needed)
+    assert lines[-1].startswith('E_max,syst 30.0 mm is within the noise: '
+                                'neither centre of gravity')
+    assert lines[-1].endswith('about %d runs each way (%d more) would tell a '
+                              'systematic error of this size from the scatter'
+                              % (needed, needed - 4))
+
+
+def test_a_correction_beyond_the_noise_is_given():
+    result = analyse(cluster((0.1, 0.0), 0.035), cluster((-0.02, 0.01), 0.035),
+                     1.0, B)
+    assert result.supported
+    text = '\n'.join(report(result))
+    assert 'the correction is supported' in text and 'multiply' in text
+
+
+def test_one_run_each_way_supports_no_correction():
+    result = analyse([[-0.05, -0.05]], [[0.01, -0.01]], 1.0, B)
+    assert not result.supported and math.isnan(result.scatter_cw.sd)
+    lines = report(result)
+    assert 'no scatter measurable' in lines[2]
+    assert lines[-1].endswith('with one run each way no scatter can be '
+                              'measured: run at least 2 each way (5 or more '
+                              'is better)')
+    assert not any('multiply' in line for line in lines)
+
+
+def test_noise_alone_supports_a_correction_in_false_alarm_of_benchmarks():
+    # 4000 benchmarks of 5 runs each way of a robot without systematic
+    # errors (Gaussian scatter of 30 mm per axis, fixed seed): the
+    # criterion's false alarms, 5 % by construction, within 3 standard
+    # deviations of a binomial count.
+    rng = np.random.default_rng(23)
+    trials, runs = 4000, 5
+    alarms = sum(analyse(*rng.normal(0.0, 0.03, (2, runs, 2)), 1.0, B).supported
+                 for _ in range(trials))
+    margin = 3 * math.sqrt(trials * FALSE_ALARM * (1 - FALSE_ALARM))
+    assert abs(alarms - trials * FALSE_ALARM) < margin, alarms
+    # A systematic error of 3 standard errors shows in most of them.
+    shift = np.array([3 * 0.03 * math.sqrt(2 / runs), 0.0])
+    found = sum(analyse(rng.normal(0.0, 0.03, (runs, 2)) + shift,
+                        rng.normal(0.0, 0.03, (runs, 2)), 1.0, B).supported
+                for _ in range(500))
+    assert found > 250

@@ -139,13 +139,16 @@ class CalibrationNode(object):
                           measured)
             return
         try:
-            lines = calibration.report(self.kind, self.odometry, measured,
-                                       source, self.node_factor)
+            lines, warning = calibration.report(self.kind, self.odometry,
+                                                measured, source,
+                                                self.node_factor)
         except ValueError as err:
             rospy.logwarn('%s: %s; no correction computed', self.name, err)
             return
         for line in lines:
             rospy.loginfo('%s: %s', self.name, line)
+        if warning:
+            rospy.logwarn('%s: %s', self.name, warning)
 
 
 def node_params(config_type):

@@ -36,7 +36,7 @@ from nav_msgs.msg import Odometry
 from rbx1_nav import params
 from rbx1_nav.dropouts import HOLD, LOST, Dropouts
 from rbx1_nav.input_check import time_moved_back_text
-from rbx1_nav.motion import control_rates, pose_error
+from rbx1_nav.motion import Breakaway, control_rates, pose_error
 from rbx1_nav.params import param
 from rbx1_nav.ros import lockstep
 from rbx1_nav.ros.master import (MasterWatch, gone_text, restarted_text,
@@ -157,6 +157,9 @@ class MotionRunner(object):
         self.granted = set()
         self.state_wait = lockstep.STATE_LIMIT
         self.dropouts = None  # the transform's, in the course driven last
+        # Precise mode's creep speeds learned where the robot stuck: kept
+        # for every course this runner drives.
+        self.breakaway = Breakaway()
         # Progress and summary lines name the robot in a fleet: its namespace.
         namespace = rospy.get_namespace().strip('/')
         self.robot = namespace + ': ' if namespace else ''
@@ -394,6 +397,7 @@ class MotionRunner(object):
     def _drive(self, course):
         """The control loop of :meth:`run`."""
         blind = self.followed is None
+        course.breakaway = self.breakaway
         self.dropouts = Dropouts(self.settings['tf_timeout'],
                                  self.settings['link_grace'])
         pose = Pose2D(0.0, 0.0, 0.0) if blind else None
