@@ -18,12 +18,23 @@ DEB_PACKAGES := catkin ros-cmake-modules python3-catkin-pkg python3-setuptools \
   rviz xvfb catkin-lint python3-pytest python3-hypothesis python3-numpy \
   python3-matplotlib python3-pil python3-std-srvs python3-dynamic-reconfigure python3-pytest-xdist \
   ros-message-generation ros-message-runtime python3-genpy python3-gencpp \
-  libdynamic-reconfigure-config-init-mutex-dev python3-venv python3-rosservice
+  libdynamic-reconfigure-config-init-mutex-dev python3-venv python3-rosservice \
+  python3-pip
 SUDO := $(if $(filter 0,$(shell id -u)),,sudo)
 
 .PHONY: deps build test unit lint demo bench clean
 
-deps:
+# MuJoCo, for the physics robot (fake_turtlebot.py ~physics): from PyPI, as
+# Debian has none, into /usr/bin/python3's site (/usr/local), where the
+# nodes find it. rosdep's key is python3-mujoco-pip.
+MUJOCO := mujoco==4.0.0
+
+deps: debs
+	@/usr/bin/python3 -c 'import mujoco' 2>/dev/null || { \
+	  echo "deps: installing $(MUJOCO) from PyPI for the physics robot"; \
+	  $(SUDO) /usr/bin/python3 -m pip install -q --break-system-packages '$(MUJOCO)'; }
+
+debs:
 	@missing=$$(dpkg-query -W -f='$${Package} $${Status}\n' $(DEB_PACKAGES) 2>/dev/null \
 	    | awk '$$NF == "installed" {print $$1}' | sort | comm -13 - <(tr ' ' '\n' <<< "$(DEB_PACKAGES)" | sed '/^$$/d' | sort)); \
 	if [ -n "$$missing" ]; then \

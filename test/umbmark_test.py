@@ -36,6 +36,39 @@ def umbmark(params):
         node.cleanup()
 
 
+def umbmark_before_after(test, settings, params, workdir):
+    """UMBmark (``params``) on a fake robot with ``settings``, then again
+    with the multipliers it printed set on the robot. Asserts both runs
+    exit 0 and the first finds a supported correction; returns (the first
+    results, the second results, the second's output). Plots in ``workdir``."""
+    watch = RobotWatch()
+    robot = FakeRobot.restart(None, watch, settings)
+    try:
+        before_file = os.path.join(workdir, 'before.yaml')
+        status, output = umbmark(dict(params, results=before_file,
+                                      plot=os.path.join(workdir, 'before.png')))
+        test.assertEqual(status, 0, output)
+        test.assertIn('the correction is supported', output)
+        with open(before_file) as f:
+            before = yaml.safe_load(f)
+        factors = before['corrections']
+        robot = FakeRobot.restart(robot, watch, dict(settings, **{
+            name: factors[name] for name in (
+                'left_wheel_radius_multiplier',
+                'right_wheel_radius_multiplier',
+                'wheel_separation_multiplier')}))
+        after_file = os.path.join(workdir, 'after.yaml')
+        status, output = umbmark(dict(params, results=after_file,
+                                      compare=before_file,
+                                      plot=os.path.join(workdir, 'after.png')))
+        test.assertEqual(status, 0, output)
+        with open(after_file) as f:
+            after = yaml.safe_load(f)
+    finally:
+        robot.close()
+    return before, after, output
+
+
 class UmbmarkTest(unittest.TestCase):
 
     def setUp(self):
@@ -51,32 +84,8 @@ class UmbmarkTest(unittest.TestCase):
                         right_wheel_radius_error=right,
                         encoder_noise=float(rospy.get_param('~encoder_noise')))
         true_ed, true_eb = right / left, separation * 2.0 / (left + right)
-        params = dict(rospy.get_param('~umbmark_params'))
-        watch = RobotWatch()
-        robot = FakeRobot.restart(None, watch, settings)
-        try:
-            before_file = os.path.join(self.dir, 'before.yaml')
-            status, output = umbmark(dict(params, results=before_file,
-                                          plot=os.path.join(self.dir, 'before.png')))
-            self.assertEqual(status, 0, output)
-            self.assertIn('the correction is supported', output)
-            with open(before_file) as f:
-                before = yaml.safe_load(f)
-            factors = before['corrections']
-            robot = FakeRobot.restart(robot, watch, dict(settings, **{
-                name: factors[name] for name in (
-                    'left_wheel_radius_multiplier',
-                    'right_wheel_radius_multiplier',
-                    'wheel_separation_multiplier')}))
-            after_file = os.path.join(self.dir, 'after.yaml')
-            status, output = umbmark(dict(params, results=after_file,
-                                          compare=before_file,
-                                          plot=os.path.join(self.dir, 'after.png')))
-            self.assertEqual(status, 0, output)
-            with open(after_file) as f:
-                after = yaml.safe_load(f)
-        finally:
-            robot.close()
+        before, after, output = umbmark_before_after(
+            self, settings, dict(rospy.get_param('~umbmark_params')), self.dir)
         ed_off = abs(before['ed'] - true_ed) / true_ed
         eb_off = abs(before['eb'] - true_eb) / true_eb
         print('RESULT Ed %.5f (true %.5f, off %.3f %%), Eb %.5f (true %.5f, '
