@@ -39,6 +39,11 @@ def test_launch_arguments_are_documented_and_optional(path):
     assert proc.returncode == 0, proc.stdout
     assert 'Required Arguments' not in proc.stdout, proc.stdout
     assert 'undocumented' not in proc.stdout, proc.stdout
+    # --nodes evaluates every substitution ($(eval ...) in attributes too).
+    proc = subprocess.run(['roslaunch', '--nodes', path],
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                          universal_newlines=True, timeout=60)
+    assert proc.returncode == 0, proc.stdout
 
 
 LAUNCH_XML = LAUNCH + sorted(glob.glob(os.path.join(ROOT, 'launch', 'include', '*.xml')))
@@ -61,7 +66,7 @@ def test_a_node_that_ends_its_launch_ends_it_cleanly_on_success(path):
     required node finished with a red "REQUIRED process ... has died!"."""
     for node in nodes_of(path):
         if node.get('required') == 'true':
-            assert node.get('launch-prefix', '').startswith(WRAPPER), node.attrib
+            assert WRAPPER in node.get('launch-prefix', ''), node.attrib
 
 
 def dump_params(*args):
