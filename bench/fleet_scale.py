@@ -209,7 +209,10 @@ class Bench(object):
         wall_limit = wall_limit or 30.0 + 1.5 * n + 60.0 / max(sim_speed, 1.0)
         args = ['roslaunch', '-p', str(self.port), 'rbx1_nav', 'fleet.launch',
                 'n:=%d' % n, 'course:=true', 'separate:=%s' % str(mode == 'separate').lower(),
-                'precise:=%s' % str(precise).lower(), 'sim_speed:=%g' % sim_speed]
+                'precise:=%s' % str(precise).lower(), 'sim_speed:=%g' % sim_speed,
+                # The robots stay up after the courses: their ground truth
+                # is read below.
+                'end:=false']
         load_before = os.getloadavg()[0]
         start = time.monotonic()
         launch = subprocess.Popen(args, env=self.env, stdout=subprocess.PIPE,

@@ -21,7 +21,8 @@ from collections import namedtuple
 from rbx1_nav.transform_utils import strip_leading_slash
 
 __all__ = ['number', 'integer', 'flag', 'frame', 'text', 'number_list', 'pairs',
-           'names', 'raw', 'POSITIVE', 'Param', 'param', 'read_all', 'describe', 'unknown', 'usage']
+           'names', 'raw', 'POSITIVE', 'Param', 'param', 'read_all', 'describe', 'unknown', 'usage',
+           'command_line', 'leftovers']
 
 
 def _as_float(name, value):
@@ -248,6 +249,51 @@ def unknown(given, specs):
     known = [spec.name for spec in specs]
     return [(name, (difflib.get_close_matches(name, known, n=1) or [None])[0])
             for name in sorted(given) if name not in known]
+
+
+def command_line(argv):
+    """(names given as ``_name:=value`` in ``argv``, whether roslaunch
+    started the node).
+
+    roslaunch gives every node it starts a ``__log:=`` argument; rosrun
+    passes only what the user typed.
+    """
+    given, launched = set(), False
+    for arg in argv[1:]:
+        name, sep, _ = arg.partition(':=')
+        if not sep:
+            continue
+        if name == '__log':
+            launched = True
+        elif name.startswith('_') and not name.startswith('__'):
+            given.add(name[1:])
+    return given, launched
+
+
+def leftovers(specs, values, argv, node_name):
+    """A line naming the parameters a node did not get from its own
+    command line or launch file, or None.
+
+    Every launch file of the package starts its nodes with clear_params, so
+    under roslaunch (``argv`` has ``__log:=``) the node's private parameters
+    are the launch file's own. Started otherwise (rosrun), a value that
+    differs from its default and is not a ``_name:=value`` of ``argv`` was
+    on the parameter server already: left by an earlier run on this master
+    (the parameter server keeps ``_name:=value``, a launch file's params
+    and dynamic_reconfigure's settings until the master ends) or set by
+    hand with rosparam. ``node_name`` is the node's resolved name
+    (``/calibrate_linear``), whose namespace ``rosparam delete`` clears.
+    """
+    given, launched = command_line(argv)
+    if launched:
+        return None
+    old = [spec for spec in specs
+           if spec.name not in given and values[spec.name] != spec.default]
+    if not old:
+        return None
+    return ('from the parameter server, not this command line (an earlier '
+            'run on this master, or rosparam set): %s; `rosparam delete %s` '
+            'to start clean' % (describe(old, values), node_name))
 
 
 def usage(doc, specs):

@@ -14,7 +14,7 @@ import math
 from rbx1_nav.params import number
 
 __all__ = ['ClockPacer', 'MIN_STEP', 'MAX_STEP', 'MIN_SPEED', 'MAX_SPEED',
-           'MAX_START', 'speed']
+           'MAX_START', 'speed', 'no_clock_text']
 
 MAX_STEP = 0.01  # s of simulated time per tick; nodes see time move smoothly
 MIN_STEP = 1e-9  # s: one nanosecond, the resolution of ROS time
@@ -23,6 +23,16 @@ MIN_STEP = 1e-9  # s: one nanosecond, the resolution of ROS time
 MIN_SPEED, MAX_SPEED = 1e-3, 1e6
 #: Latest start time (s): leaves rospy.Time's 32-bit seconds decades of room.
 MAX_START = 2.0 ** 31
+
+
+def no_clock_text(waited):
+    """What to do when /use_sim_time is true and no /clock came for
+    ``waited`` wall seconds."""
+    return ('/use_sim_time is true but nothing publishes /clock after %.1f s: '
+            'a launch with sim_speed:=N (or sim_clock.launch) publishes it; '
+            'for real time, `rosparam set /use_sim_time false` and start this '
+            'again (a launch with sim_speed leaves /use_sim_time true on the '
+            'master after it ends)' % waited)
 
 
 def speed(name, value):

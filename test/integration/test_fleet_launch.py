@@ -2,7 +2,8 @@
 --nodes, --args and --dump-params, which parse without starting anything):
 one fake_fleet.py with robot1 .. robotN or one fake_turtlebot.py per robot,
 and with course:=true one course per robot, each with its robot's frames
-and its tf remapped to the robot's own topics."""
+and its tf remapped to the robot's own topics; the last course to succeed
+ends the launch unless end:=false."""
 import os
 import shutil
 import subprocess
@@ -64,3 +65,11 @@ def test_separate_runs_one_fake_turtlebot_per_robot_on_its_own_tf():
                 == 'robot%d/base_footprint' % k)
     command = roslaunch('--args', '/robot2/fake_turtlebot', *args).split()
     assert '/tf:=tf' in command and '/tf_static:=tf_static' in command
+
+
+def test_the_last_course_to_succeed_ends_the_launch_unless_end_false():
+    args = ('rbx1_nav', 'fleet.launch', 'n:=2', 'course:=true')
+    wrapper = 'end_launch_on_success.py'
+    assert wrapper in roslaunch('--args', '/robot2/odom_out_and_back', *args)
+    assert wrapper not in roslaunch('--args', '/robot2/odom_out_and_back', *args,
+                                    'end:=false')

@@ -2,7 +2,8 @@
 tests, then, in a clean environment with only the install space set up and
 the source tree on no path: the book's cfg modules import as the book's
 scripts do (``from rbx1_nav.cfg import CalibrateLinearConfig``, checked from
-the devel space too), the demo course completes, and a rostest passes.
+the devel space too), the demo course completes and its launch ends
+cleanly, and a rostest passes.
 """
 import os
 import socket
@@ -98,6 +99,10 @@ def test_demo_course_completes_from_the_install_space(install_setup):
                   'roslaunch -p %d rbx1_nav odom_out_and_back_sim.launch '
                   'sim_speed:=10' % (port, port))
     assert 'Course complete' in proc.stdout, proc.stdout[-3000:]
+    # The launch ends cleanly after the course (end_launch_on_success.py),
+    # without roslaunch's red block for a required node's end.
+    assert 'finished cleanly: ending the launch' in proc.stdout, proc.stdout[-3000:]
+    assert 'REQUIRED process' not in proc.stdout, proc.stdout[-3000:]
 
 
 def test_a_rostest_passes_from_the_install_space(install_setup):

@@ -1,11 +1,14 @@
 """The RViz views fit a laptop screen and close without a prompt; every
 launch file argument is documented and none is required (checked through
 ``roslaunch --ros-args``, which calls an argument without a default, or with
-an empty one, required)."""
+an empty one, required); every node starts with clean private parameters,
+a required node ends its launch without roslaunch's red block, and a
+launch that starts a robot sets /use_sim_time."""
 import glob
 import os
 import shutil
 import subprocess
+from xml.etree import ElementTree
 
 import pytest
 import yaml
@@ -36,3 +39,56 @@ def test_launch_arguments_are_documented_and_optional(path):
     assert proc.returncode == 0, proc.stdout
     assert 'Required Arguments' not in proc.stdout, proc.stdout
     assert 'undocumented' not in proc.stdout, proc.stdout
+    # --nodes evaluates every substitution ($(eval ...) in attributes too).
+    proc = subprocess.run(['roslaunch', '--nodes', path],
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                          universal_newlines=True, timeout=60)
+    assert proc.returncode == 0, proc.stdout
+
+
+LAUNCH_XML = LAUNCH + sorted(glob.glob(os.path.join(ROOT, 'launch', 'include', '*.xml')))
+WRAPPER = 'rosrun rbx1_nav end_launch_on_success.py'
+
+
+def nodes_of(path):
+    return ElementTree.parse(path).getroot().iter('node')
+
+
+@pytest.mark.parametrize('path', LAUNCH_XML, ids=[os.path.basename(p) for p in LAUNCH_XML])
+def test_every_node_starts_with_clean_private_parameters(path):
+    for node in nodes_of(path):
+        assert node.get('clear_params') == 'true', node.attrib
+
+
+@pytest.mark.parametrize('path', LAUNCH_XML, ids=[os.path.basename(p) for p in LAUNCH_XML])
+def test_a_node_that_ends_its_launch_ends_it_cleanly_on_success(path):
+    """Without end_launch_on_success.py, roslaunch ends a launch whose
+    required node finished with a red "REQUIRED process ... has died!"."""
+    for node in nodes_of(path):
+        if node.get('required') == 'true':
+            assert WRAPPER in node.get('launch-prefix', ''), node.attrib
+
+
+def dump_params(*args):
+    if not shutil.which('roslaunch') or 'ROS_PACKAGE_PATH' not in os.environ:
+        pytest.skip('needs a sourced ROS workspace (make test sources one)')
+    proc = subprocess.run(['roslaunch', '--dump-params', 'rbx1_nav'] + list(args),
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                          universal_newlines=True, timeout=60)
+    assert proc.returncode == 0, proc.stdout
+    return yaml.safe_load(proc.stdout)
+
+
+@pytest.mark.parametrize('args, sim_time', [
+    (['fake_turtlebot.launch'], False),
+    (['fake_turtlebot.launch', 'sim_speed:=5'], True),
+    (['nav_square.launch', 'sim:=true'], False),
+    (['umbmark.launch', 'sim:=true', 'sim_speed:=max'], True),
+    (['odom_out_and_back_sim.launch'], False),
+    (['fleet.launch', 'n:=2'], False),
+    (['fleet.launch', 'n:=2', 'sim_speed:=max'], True),
+])
+def test_a_launch_that_starts_a_robot_sets_use_sim_time(args, sim_time):
+    """A launch with sim_speed leaves /use_sim_time true on the master: a
+    later real-time launch must set it back."""
+    assert dump_params(*args)['/use_sim_time'] is sim_time

@@ -4,8 +4,8 @@ import math
 import pytest
 from hypothesis import given, strategies as st
 
-from rbx1_nav.params import (flag, frame, integer, names, number, number_list,
-                             text)
+from rbx1_nav.params import (command_line, flag, frame, integer, leftovers, names,
+                             number, number_list, param, text)
 
 finite = st.floats(allow_nan=False, allow_infinity=False)
 
@@ -209,3 +209,32 @@ def test_an_error_quotes_at_most_200_characters_of_the_value(check):
     with pytest.raises(ValueError) as err:
         check('~x', huge)
     assert len(str(err.value)) < 300
+
+
+LEFTOVER_SPECS = (param('precise', False, flag), param('tf_wait', 5.0, number, 's'),
+                  param('frame', 'odom', frame))
+
+
+def test_command_line_names_the_private_parameters_and_sees_roslaunch():
+    assert command_line(['node.py', '_precise:=true', '__name:=x', 'cmd_vel:=a',
+                         '_tf_wait:=3']) == ({'precise', 'tf_wait'}, False)
+    assert command_line(['node.py', '__name:=x', '__log:=/tmp/x.log']) == (set(), True)
+
+
+def test_leftovers_name_non_default_values_not_on_the_command_line():
+    values = {'precise': True, 'tf_wait': 25.0, 'frame': 'odom'}
+    line = leftovers(LEFTOVER_SPECS, values, ['node.py'], '/odom_out_and_back')
+    assert line == ('from the parameter server, not this command line (an '
+                    'earlier run on this master, or rosparam set): precise on, '
+                    'tf_wait 25 s; `rosparam delete /odom_out_and_back` to '
+                    'start clean')
+    line = leftovers(LEFTOVER_SPECS, values, ['node.py', '_precise:=true'], '/n')
+    assert 'precise' not in line and 'tf_wait 25 s' in line
+
+
+def test_no_leftovers_at_defaults_from_the_command_line_or_under_roslaunch():
+    values = {'precise': True, 'tf_wait': 5.0, 'frame': 'odom'}
+    assert leftovers(LEFTOVER_SPECS, values, ['node.py', '_precise:=true'], '/n') is None
+    assert leftovers(LEFTOVER_SPECS, dict(values, precise=False), ['node.py'], '/n') is None
+    # Every launch file clears the node's parameters: they are its own.
+    assert leftovers(LEFTOVER_SPECS, values, ['node.py', '__log:=/tmp/n.log'], '/n') is None

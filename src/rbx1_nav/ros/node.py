@@ -5,7 +5,8 @@ waits for one, starts rospy with signal handling that cannot deadlock,
 keeps log calls off the master, waits for the first /clock under simulated
 time, reads and checks the node's declared private parameters
 (rbx1_nav.params.Param), warns about private parameters it does not know
-(naming the nearest known one), and logs the values it uses.
+(naming the nearest known one), logs the values it uses and names those
+left on the parameter server by an earlier run (params.leftovers).
 :func:`until_shutdown` runs a node's main loop; :func:`exit_node` is a
 node's last line.
 """
@@ -19,6 +20,7 @@ import rosgraph
 import rospy
 
 from rbx1_nav import params
+from rbx1_nav.sim_clock import no_clock_text
 
 
 def _shutdown_on_signal(signum, frame):
@@ -57,7 +59,11 @@ def cache_rosout_setting():
         rospy.set_param(ROSOUT_SETTING, False)
 
 
-def wait_for_clock(limit=5.0):
+#: Wall seconds a node waits for the first /clock before it says that none comes.
+CLOCK_WAIT = 5.0
+
+
+def wait_for_clock(limit=CLOCK_WAIT):
     """Under /use_sim_time, wait up to ``limit`` wall seconds for the first
     /clock, so the start-up line and the node's start carry real stamps
     (ROS time is 0 until then). False if it did not come."""
@@ -126,8 +132,8 @@ def start_node(name, specs, doc, clock=True):
         signal.signal(signum, _shutdown_on_signal)
     rospy.init_node(name, disable_signals=True)
     cache_rosout_setting()
-    if clock:
-        wait_for_clock()
+    if clock and not wait_for_clock(CLOCK_WAIT):
+        rospy.logwarn('%s: %s; waiting for it', name, no_clock_text(CLOCK_WAIT))
     warn_unknown(name, specs)
     try:
         values = read_params(specs)
@@ -135,6 +141,9 @@ def start_node(name, specs, doc, clock=True):
         rospy.logerr('%s: bad parameters, not moving: %s', name, err)
         return None
     rospy.loginfo('%s: %s', name, params.describe(specs, values))
+    old = params.leftovers(specs, values, sys.argv, rospy.get_name())
+    if old:
+        rospy.logwarn('%s: %s', name, old)
     return values
 
 

@@ -43,6 +43,7 @@ from rbx1_nav.ros.master import (MasterWatch, gone_text, restarted_text,
                                  topic_graph)
 from rbx1_nav.ros.node import start_node, wait_for_clock
 from rbx1_nav.ros.publishers import watch_publishers
+from rbx1_nav.sim_clock import no_clock_text
 from rbx1_nav.transform_utils import Pose2D, normalize_angle, quat_to_angle
 
 BASE_FRAME_CANDIDATES = ('base_footprint', 'base_link')
@@ -218,11 +219,7 @@ class MotionRunner(object):
         if not wait_for_clock(self.settings['tf_wait']):
             if rospy.is_shutdown():
                 raise rospy.ROSInterruptException('shutdown waiting for /clock')
-            raise CourseAborted(
-                '/use_sim_time is true but nothing publishes /clock after '
-                '%.1f s (start the simulator with sim_speed set, or '
-                'sim_clock.launch, or set /use_sim_time false)'
-                % self.settings['tf_wait'])
+            raise CourseAborted(no_clock_text(self.settings['tf_wait']))
 
     def watch_clock(self):
         """Under /use_sim_time, shut the node down if /clock stops.

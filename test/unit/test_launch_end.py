@@ -1,0 +1,44 @@
+"""Unit tests for rbx1_nav.launch_end: when a wrapped node's clean exit
+ends its roslaunch (nodes/end_launch_on_success.py)."""
+import os
+
+from rbx1_nav.launch_end import is_roslaunch, node_name, others_running, processes
+
+ROSLAUNCH = ['/usr/bin/python3', '/usr/bin/roslaunch', 'rbx1_nav', 'nav_square.launch']
+WRAPPER = ['/usr/bin/python3', '/ws/devel/lib/rbx1_nav/end_launch_on_success.py']
+
+
+def test_only_roslaunch_itself_is_ended():
+    assert is_roslaunch(ROSLAUNCH)
+    assert is_roslaunch(['roslaunch', '-p', '11311', 'x.launch'])
+    assert not is_roslaunch(['/usr/bin/python3', '/usr/bin/rostest', 'nav_square.test'])
+    assert not is_roslaunch(['/usr/bin/python3', '/usr/bin/roslaunch', '--child',
+                             '--server_uri=http://h:1/', '--run_id=x'])
+    assert not is_roslaunch(['bash'])
+
+
+def test_the_last_wrapped_node_of_a_launch_ends_it():
+    procs = {10: (1, ROSLAUNCH),
+             20: (10, WRAPPER + ['/n/odom_out_and_back.py']),
+             30: (10, WRAPPER + ['/n/odom_out_and_back.py']),
+             31: (30, ['/usr/bin/python3', '/n/odom_out_and_back.py']),
+             40: (10, ['/usr/bin/python3', '/n/fake_fleet.py'])}
+    assert others_running(20, procs)  # 30's course still drives
+    del procs[31]
+    assert not others_running(20, procs)
+    assert not others_running(20, {10: (1, ROSLAUNCH), 20: (10, WRAPPER)})
+    # A wrapper of another launch does not count.
+    assert not others_running(20, {20: (10, WRAPPER), 50: (11, WRAPPER), 51: (50, ['x'])})
+
+
+def test_processes_reads_this_process_and_its_parent():
+    procs = processes()
+    assert procs[os.getpid()][0] == os.getppid()
+    assert procs[os.getpid()][1]
+
+
+def test_node_name_as_roslaunch_shows_it():
+    args = ['/n/odom_out_and_back.py', '__name:=odom_out_and_back', '__log:=/x.log']
+    assert node_name(args, '/robot2') == 'robot2/odom_out_and_back'
+    assert node_name(args) == 'odom_out_and_back'
+    assert node_name(['/n/nav_square.py']) == 'nav_square.py'
