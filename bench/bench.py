@@ -21,6 +21,10 @@ Sections (``--sections``, all by default):
   lockstep at 1x.
 - scale: N robots at 1x, separate processes and one fake_fleet
   (bench/fleet_scale.py).
+- physics: the kinematic and the physics robot (MuJoCo) side by side: each
+  alone under lockstep at full speed (simulated seconds per wall second,
+  read from /clock), the default course at full speed on each, and how
+  many physics robots one fake_fleet keeps at 1x (``--robots``).
 
 Writes bench/results/latest.md, latest.json and latest.png, and prints the
 table. Usage: make bench [BENCH_ARGS="--sections speed --runs 3"]
@@ -152,7 +156,8 @@ class Graph(object):
             self.launch.wait()
 
 
-def course(setup='ideal', mode='default', speed='max', lockstep=True, seed=None):
+def course(setup='ideal', mode='default', speed='max', lockstep=True, seed=None,
+           physics=False):
     """One out-and-back course; a result dict (errors on ground truth)."""
     launch = 'fake_turtlebot_ekf.launch' if setup == 'pose_ekf' else 'fake_turtlebot.launch'
     if setup == 'pose_ekf' and speed == 'max':
@@ -160,6 +165,8 @@ def course(setup='ideal', mode='default', speed='max', lockstep=True, seed=None)
         # clock and the course aborts on its stale tf (as in the rostests).
         speed = POSE_EKF_SPEED
     args = dict(sim_speed=speed, model='false')
+    if physics:
+        args['physics'] = 'true'
     if setup != 'pose_ekf':
         args.update(lockstep=lockstep, realistic=setup == 'realistic')
     if seed is not None and setup != 'ideal':
@@ -178,6 +185,51 @@ def course(setup='ideal', mode='default', speed='max', lockstep=True, seed=None)
         graph.close()
     result.update(setup=setup, mode=mode, speed=speed, lockstep=lockstep, seed=seed)
     return result
+
+
+def clock(graph):
+    """The simulated seconds of the next /clock message."""
+    out = subprocess.run(['rostopic', 'echo', '-n', '1', '/clock/clock'], env=graph.env,
+                         stdout=subprocess.PIPE, universal_newlines=True, timeout=30).stdout
+    stamp = yaml.safe_load(out.split('---')[0])
+    return stamp['secs'] + 1e-9 * stamp['nsecs']
+
+
+def alone(physics, seconds=10.0):
+    """Simulated seconds per wall second of the robot alone under lockstep
+    at full speed (no course: only the simulator asks for steps)."""
+    graph = Graph('fake_turtlebot.launch', dict(sim_speed='max', model='false',
+                                               physics=str(physics).lower()))
+    try:
+        clock(graph)  # up and stepping
+        start, wall = clock(graph), time.monotonic()
+        time.sleep(seconds)
+        return (clock(graph) - start) / (time.monotonic() - wall)
+    finally:
+        graph.close()
+
+
+def physics(counts):
+    """The kinematic and the physics robot side by side (see the module
+    docstring), and the physics fleet at 1x."""
+    rows = []
+    for robot in (False, True):
+        name = 'physics' if robot else 'kinematic'
+        speedup = alone(robot)
+        log('physics: the %s robot alone at max: %.0fx' % (name, speedup))
+        result = course(physics=robot)
+        log('physics: course on the %s robot at max: %s' % (name, describe(result)))
+        rows.append(dict(robot=name, alone=speedup, completed=result['status'] == 0,
+                         course_speedup=(result['sim_s'] / result['wall_s']
+                                         if result.get('wall_s') else None),
+                         error_mm=result.get('error_mm'),
+                         heading_deg=result.get('heading_deg')))
+    import fleet_scale
+    fleet = fleet_scale.run_all(counts, modes=('fleet',), physics=True, log=lambda r: log(
+        'physics fleet %d robots: %d/%d completed, worst %.1f mm, %.2f deg, %.0f CPU s'
+        % (r['n'], r['completed'], r['n'], r['true_mm'], r['true_deg'], r['cpu_total'])))
+    return dict(robots=rows, fleet=fleet,
+                fleet_holds=fleet_scale.largest_holding(fleet, 'fleet'))
 
 
 def log(text):
@@ -302,6 +354,25 @@ def markdown(results):
                 fmt(r.get('rate_median')), fmt(r.get('rate_min'), '%.0f'),
                 fmt(r['cpu_total'], '%.0f'), 'yes' if r['holds'] else 'no', r['target']))
         out.append('')
+    if 'physics' in results:
+        phys = results['physics']
+        out += ['## The physics robot (MuJoCo) beside the kinematic one', '',
+                '| robot | alone, lockstep max | default course at max | final error '
+                '(ground truth) |', '|---|---|---|---|']
+        for r in phys['robots']:
+            out.append('| %s | %s x | %s x | %s mm, %s deg |' % (
+                r['robot'], fmt(r['alone'], '%.0f'), fmt(r['course_speedup']),
+                fmt(r['error_mm']), fmt(r['heading_deg'], '%+.2f')))
+        out += ['', 'Physics robots in one fake_fleet at 1x: %s hold (every course '
+                'within %s).' % (phys['fleet_holds'] or 'none', TARGETS['scale']), '',
+                '| robots | completed | worst true error | total CPU s | holds |',
+                '|---|---|---|---|---|']
+        for r in phys['fleet']:
+            out.append('| %d | %d/%d | %s mm, %s deg | %s | %s |' % (
+                r['n'], r['completed'], r['n'], fmt(r['true_mm']),
+                fmt(r['true_deg'], '%.2f'), fmt(r['cpu_total'], '%.0f'),
+                'yes' if r['holds'] else 'no'))
+        out.append('')
     return '\n'.join(out)
 
 
@@ -338,8 +409,9 @@ def plot(results, path):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
-    parser.add_argument('--sections', nargs='+', default=['accuracy', 'speed', 'scale'],
-                        choices=['accuracy', 'speed', 'scale'])
+    parser.add_argument('--sections', nargs='+',
+                        default=['accuracy', 'speed', 'scale', 'physics'],
+                        choices=['accuracy', 'speed', 'scale', 'physics'])
     parser.add_argument('--runs', type=int, default=10)
     parser.add_argument('--robots', type=int, nargs='+', default=[1, 10, 20, 40, 80])
     parser.add_argument('--out', default=RESULTS)
@@ -363,6 +435,8 @@ def main():
         results['speed'] = speed()
     if 'scale' in args.sections:
         results['scale'] = scale(args.robots)
+    if 'physics' in args.sections:
+        results['physics'] = physics(args.robots)
     for section in args.sections:
         measured[section] = time.strftime('%Y-%m-%d %H:%M')
     os.makedirs(args.out, exist_ok=True)

@@ -194,7 +194,7 @@ class Bench(object):
 
     def run_fleet(self, n, mode='fleet', sim_speed=0.0, precise=False,
                   position_limit=POSITION_LIMIT, heading_limit=HEADING_LIMIT,
-                  wall_limit=None):
+                  wall_limit=None, physics=False):
         """One run of N robots; returns its results as a dict."""
         if mode not in MODES:
             raise ValueError('mode must be one of %s, got %r' % (MODES, mode))
@@ -210,6 +210,7 @@ class Bench(object):
         args = ['roslaunch', '-p', str(self.port), 'rbx1_nav', 'fleet.launch',
                 'n:=%d' % n, 'course:=true', 'separate:=%s' % str(mode == 'separate').lower(),
                 'precise:=%s' % str(precise).lower(), 'sim_speed:=%g' % sim_speed,
+                'physics:=%s' % str(physics).lower(),
                 # The robots stay up after the courses: their ground truth
                 # is read below.
                 'end:=false']
@@ -287,7 +288,8 @@ def stop(proc):
 
 
 def run_all(sizes, modes=MODES, sim_speed=0.0, precise=False,
-            position_limit=POSITION_LIMIT, heading_limit=HEADING_LIMIT, log=None):
+            position_limit=POSITION_LIMIT, heading_limit=HEADING_LIMIT, log=None,
+            physics=False):
     """Every (N, mode) in turn on one roscore; a list of result dicts.
 
     Larger sizes of a mode are skipped once two sizes in a row did not hold.
@@ -301,7 +303,8 @@ def run_all(sizes, modes=MODES, sim_speed=0.0, precise=False,
                 if misses >= 2:
                     break
                 result = bench.run_fleet(n, mode, sim_speed, precise,
-                                         position_limit, heading_limit)
+                                         position_limit, heading_limit,
+                                         physics=physics)
                 results.append(result)
                 misses = 0 if result['holds'] else misses + 1
                 if log:
