@@ -679,13 +679,19 @@ class GyroOdomFusion(object):
         t = min([now] + [self._latest[n].stamp for n in active])
         if t <= self._time:
             return []
+        # With gps_kalman, step at each new fix's own stamp on the way.
+        times = sorted(set([t] + [r.stamp for r in self._history['gps']
+                                  if self.gps_kalman and 'gps' in active
+                                  and self._time < r.stamp < t]))
+        events = []
         try:
             with np.errstate(over='ignore', invalid='ignore'):
-                events = self._fuse_at(t, active)
+                for step_time in times:
+                    events += self._fuse_at(step_time, active)
+                    self._time = step_time
+                    self._was_active = set(active)
         except (ValueError, np.linalg.LinAlgError) as err:
             return self._restarted(err)
-        self._time = t
-        self._was_active = set(active)
         if self.stamp is None or t > self.stamp:
             self.stamp, self.updated = t, True
         return events
