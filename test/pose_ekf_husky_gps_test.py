@@ -83,6 +83,10 @@ class HuskyGpsTest(unittest.TestCase):
         cls.relays = [LateStart(ns, delay) for ns, delay in late.items()]
         cls.odom_begin = []
         rospy.Subscriber('/encoder', Odometry, cls.on_odom)
+        # The deadline counts from the bag's first /clock: before it, ROS
+        # time is 0 and a deadline of 60 s has passed at the bag's 1st tick.
+        while rospy.get_rostime().is_zero() and not rospy.is_shutdown():
+            rospy.sleep(0.1)  # returns once /clock has started
         deadline = rospy.get_rostime() + rospy.Duration(60.0)
         cls.odom_end = 0.0
         while cls.odom_end < TIME_END + 1.0 and not rospy.is_shutdown():
