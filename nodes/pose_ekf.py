@@ -19,9 +19,14 @@ time and watches for problems:
 Private parameters: robot_pose_ekf's names and defaults, plus
 ~publish_tf (false runs pose_ekf as an estimator only); PARAMS below,
 listed by --help. A sensor silent for ~sensor_timeout is left out of the
-fusion and taken back when it returns. The IMU's yaw is used as is: mount it with its z axis up. GPS x, y are
-taken in a frame with the output frame's axes; its origin is learned from
-the fixes (keep the robot still for a few fixes after start-up). A bad
+fusion and taken back when it returns. The IMU's yaw is used as is: mount it with its z axis up. A sensor
+variance of 1e5 or more, -1 or inf means "not measured": that component
+is not fused (said once at info level). Without GPS the output frame starts
+at the first odometry pose, known exactly. With ~gps_used, as
+robot_pose_ekf: the filter starts at a GPS fix with the IMU's heading (the
+output frame is the GPS frame, the IMU's yaw its heading), steps at the
+oldest of its sensors' newest stamps, takes the IMU's yaw as absolute while
+GPS is active and the fixes on x, y only. A bad
 parameter is logged and the node exits with status 1. Unstamped,
 out-of-order, repeated, NaN or absurd sensor messages and negative
 variances are dropped (rbx1_nav.input_check), with one warning per sensor
@@ -72,7 +77,12 @@ PARAMS = (
     params.param('odom_used', True, params.flag, '', 'fuse odom'),
     params.param('imu_used', True, params.flag, '', 'fuse imu_data (yaw)'),
     params.param('vo_used', False, params.flag, '', 'fuse vo (relative pose)'),
-    params.param('gps_used', False, params.flag, '', 'fuse gps (x, y)'),
+    params.param('gps_used', False, params.flag, '',
+                 'fuse gps (x, y) as robot_pose_ekf: start at the fix and '
+                 'the IMU heading, output in the GPS frame'),
+    params.param('gps_kalman', False, params.flag, '',
+                 'with gps_used: fuse each fix once with its covariance '
+                 '(Kalman gain) instead of robot_pose_ekf\'s per-step weight'),
     params.param('publish_tf', True, params.flag, '',
                  'publish tf output_frame -> base_footprint_frame'),
 )
@@ -104,9 +114,10 @@ class PoseEkfNode(object):
         self.freq = values['freq']
         self.publish_tf = values['publish_tf']
         used = {name: values[name + '_used'] for name in TOPICS}
+        topics = {name: rospy.resolve_name(TOPICS[name][0]) for name in TOPICS}
         self.fusion = GyroOdomFusion(used['odom'], used['imu'],
                                      values['sensor_timeout'], used['vo'],
-                                     used['gps'])
+                                     used['gps'], topics, values['gps_kalman'])
         if not started.is_zero():
             self.fusion.start(started.to_sec())
         self.lock = threading.Lock()

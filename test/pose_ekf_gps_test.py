@@ -7,6 +7,11 @@ with GPS too. When the course node has exited and ~settle_time simulated seconds
 passed with the robot at rest, this test compares each
 estimate's last position with the simulator's ground truth, prints both
 errors and asserts the ratio.
+
+At rest the GPS-fused position is the average of the fixes since the robot
+stopped, in the GPS frame (robot_pose_ekf's gps_used mode), so its error is
+that average's: about gps_noise / sqrt(fixes). ~settle_time must give enough
+fixes for the limit to hold by design, not by a lucky draw of the noise.
 """
 import math
 import threading

@@ -14,8 +14,9 @@ sorts out, per sensor, a reading that is
 * ``negative variance``: a covariance with a negative diagonal entry;
 
 or, as the callers find while unpacking a message, has a ``bad
-orientation`` (a zero or non-finite quaternion, an IMU without one) or is
-``malformed``. Each rejection raises :class:`RejectedInput` and is counted;
+orientation`` (a zero or non-finite quaternion, an IMU without one), is
+``malformed``, or (a GPS fix) has a ``zero variance``, a ``stamp from
+another clock`` or is a ``jump`` away from the estimate. Each rejection raises :class:`RejectedInput` and is counted;
 :meth:`InputCheck.warning` turns it into at most one warning per sensor and
 kind every :data:`WARN_PERIOD` seconds, saying how many were dropped since
 the last one. :class:`ClockWatch` notices ROS time moving backwards, after
@@ -32,7 +33,8 @@ from rbx1_nav.throttle import Throttle
 __all__ = ['InputCheck', 'RejectedInput', 'ClockWatch', 'time_moved_back_text',
            'MAX_POSITION', 'MAX_VARIANCE', 'WARN_PERIOD', 'ZERO_STAMP',
            'OUT_OF_ORDER', 'DUPLICATE', 'NOT_FINITE', 'ABSURD',
-           'NEGATIVE_VARIANCE', 'BAD_ORIENTATION', 'MALFORMED', 'KINDS']
+           'NEGATIVE_VARIANCE', 'BAD_ORIENTATION', 'MALFORMED',
+           'ZERO_VARIANCE', 'OTHER_CLOCK', 'GPS_JUMP', 'KINDS']
 
 #: Positions farther than this from the origin (m) on either axis are
 #: absurd. Ten times the largest coordinate a frame on Earth uses (UTM
@@ -56,9 +58,13 @@ ABSURD = 'absurd'
 NEGATIVE_VARIANCE = 'negative variance'
 BAD_ORIENTATION = 'bad orientation'
 MALFORMED = 'malformed'
+ZERO_VARIANCE = 'zero variance'
+OTHER_CLOCK = 'stamp from another clock'
+GPS_JUMP = 'jump'
 #: Every kind of rejected reading.
 KINDS = (ZERO_STAMP, OUT_OF_ORDER, DUPLICATE, NOT_FINITE, ABSURD,
-         NEGATIVE_VARIANCE, BAD_ORIENTATION, MALFORMED)
+         NEGATIVE_VARIANCE, BAD_ORIENTATION, MALFORMED, ZERO_VARIANCE,
+         OTHER_CLOCK, GPS_JUMP)
 
 
 class RejectedInput(ValueError):

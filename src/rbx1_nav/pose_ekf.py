@@ -35,11 +35,13 @@ ever stop being finite or ROS time move backwards, and describes its state
 spots a second publisher of the filter's transform. No rospy here: times
 are float seconds, poses are plain tuples.
 """
+import collections
 import math
 
 import numpy as np
 
-from rbx1_nav.input_check import (MAX_POSITION, MAX_VARIANCE, ClockWatch,
+from rbx1_nav.input_check import (GPS_JUMP, MAX_POSITION, MAX_VARIANCE,
+                                  OTHER_CLOCK, ZERO_VARIANCE, ClockWatch,
                                   InputCheck)
 from rbx1_nav.transform_utils import normalize_angle
 
@@ -62,6 +64,38 @@ AT_REST = 1e-9
 #: Variance reported for z, roll and pitch, which the planar model fixes.
 PLANAR_FIXED_VARIANCE = 1e-9
 _POSE_INDICES = (0, 1, 5)  # x, y, yaw rows of a 6x6 ROS pose covariance
+#: A variance at or above this (m^2, rad^2), -1 or infinity is a driver's
+#: "do not use this component" (1e6 in robot_pose_ekf's users, 1e10 and
+#: 1e308 in Kobuki's, DBL_MAX in others): the component is left unmeasured,
+#: never fused as a number (a sd of 316 m or 316 rad means nothing anyway).
+UNMEASURED_VARIANCE = 1e5
+#: GPS in robot_pose_ekf's mode: a fix farther than this many standard
+#: deviations (of the fix and the estimate together) from the prediction is
+#: dropped as a jump, not fused.
+GPS_GATE_SIGMAS = 10.0
+#: A GPS stamp farther than this from ROS time (s) is from another clock.
+MAX_STAMP_SKEW = 10.0
+#: Readings kept per sensor, to read each at the filter's time (GPS mode).
+HISTORY = 100
+_AXES = {'odom': ('x', 'y', 'yaw'), 'vo': ('x', 'y', 'yaw'), 'imu': ('yaw',),
+         'gps': ('x', 'y')}
+
+
+def unmeasured_components(cov):
+    """``(cleaned, mask)`` for a sensor covariance.
+
+    ``mask[i]`` is True where variance ``i`` says "not measured" (at least
+    :data:`UNMEASURED_VARIANCE`, exactly -1, or +infinity); ``cleaned`` is
+    ``cov`` with those rows and columns zeroed, ready for the input check.
+    """
+    cov = np.array(cov, dtype=float, ndmin=2)
+    diag = np.diag(cov)
+    with np.errstate(invalid='ignore'):
+        mask = (diag >= UNMEASURED_VARIANCE) | (diag == -1.0)
+    cleaned = cov.copy()
+    cleaned[mask, :] = 0.0
+    cleaned[:, mask] = 0.0
+    return cleaned, mask
 
 
 def odom_increment(previous, current):
@@ -147,15 +181,6 @@ class PlanarEkf(object):
         return (float(self.state[0]), float(self.state[1]),
                 normalize_angle(self.state[2]))
 
-    @property
-    def offset(self):
-        """``(ox, oy, 2x2 covariance)`` of the GPS frame, or None."""
-        if 'offset' not in self._blocks:
-            return None
-        i, _ = self._blocks['offset']
-        return (float(self.state[i]), float(self.state[i + 1]),
-                self.state_cov[i:i + 2, i:i + 2].copy())
-
     # -- state blocks ---------------------------------------------------------
     def _append(self, name, mean, cov, cross):
         """Append block ``name`` with its covariance and cross-covariance."""
@@ -235,12 +260,15 @@ class PlanarEkf(object):
                      [[max(float(variance), MIN_VARIANCE)]])
         self.set_anchor(name)
 
-    def update_pose_increment(self, increment, increment_cov, name='vo'):
+    def update_pose_increment(self, increment, increment_cov, name='vo',
+                              rows=(0, 1, 2)):
         """Fuse a measured body-frame motion since the anchor; re-anchor.
 
         ``increment`` is ``(dx, dy, dyaw)`` in the frame of the anchor pose,
-        as :func:`odom_increment` gives it for two poses of the sensor.
+        as :func:`odom_increment` gives it for two poses of the sensor;
+        ``rows`` picks the measured components.
         """
+        rows = list(rows)
         a = self._anchor_index(name)
         ax, ay, ayaw = self.state[a:a + 3]
         x, y, yaw = self.state[0:3]
@@ -254,33 +282,54 @@ class PlanarEkf(object):
                              [0.0, 0.0, -1.0]]
         innovation = np.asarray(increment, dtype=float) - predicted
         innovation[2] = normalize_angle(innovation[2])
-        self._update(jac, innovation, increment_cov)
+        if rows:
+            self._update(jac[rows], innovation[rows],
+                         np.asarray(increment_cov)[np.ix_(rows, rows)])
         self.set_anchor(name)
 
-    def add_offset(self, position, position_cov):
-        """Start the GPS offset from a first fix: offset = fix - position.
+    def update_yaw(self, yaw, variance):
+        """Fuse an absolute yaw (an IMU's heading while GPS is active)."""
+        jac = np.zeros((1, len(self.state)))
+        jac[0, 2] = 1.0
+        innovation = normalize_angle(yaw - self.state[2])
+        self._update(jac, np.array([innovation]),
+                     [[max(float(variance), MIN_VARIANCE)]])
 
-        The fix's frame is assumed to have the output frame's axes; only its
-        origin is unknown. The first fix says nothing about the pose: it
-        fixes where the GPS frame's origin lies, with the fix's and the
-        pose's uncertainties together.
-        """
-        if 'offset' in self._blocks:
-            raise RuntimeError('the GPS offset is already in the state')
-        mean = np.asarray(position, dtype=float) - self.state[0:2]
-        cov = floored(position_cov) + self.state_cov[0:2, 0:2]
-        self._append('offset', mean, cov, -self.state_cov[0:2, :])
+    def blend_position(self, position, position_cov, weights, rows=(0, 1)):
+        """Move the pose's x, y a fraction ``weights`` (per axis) of the way
+        to a fix, robot_pose_ekf's fixed-gain GPS update; the covariance
+        is that of the estimator this makes (Joseph form)."""
+        rows = list(rows)
+        n = len(self.state)
+        gain = np.zeros((n, 2))
+        jac = np.zeros((2, n))
+        for i in rows:
+            gain[i, i], jac[i, i] = weights[i], 1.0
+        innovation = np.asarray(position, dtype=float) - self.state[0:2]
+        self.state = self.state + gain @ innovation
+        keep = np.eye(n) - gain @ jac
+        cov = (keep @ self.state_cov @ keep.T
+               + gain @ floored(position_cov) @ gain.T)
+        self.state_cov = 0.5 * (cov + cov.T)
 
-    def update_position(self, position, position_cov):
-        """Fuse an absolute fix: ``position`` = pose x, y + GPS offset."""
-        if 'offset' not in self._blocks:
-            raise RuntimeError('update_position needs add_offset first')
-        o, _ = self._blocks['offset']
+    def position_distance(self, position, position_cov, rows=(0, 1)):
+        """Mahalanobis distance of a fix ``(x, y)`` from the pose's x, y,
+        on the measured axes ``rows``."""
+        rows = list(rows)
+        s = (self.state_cov[0:2, 0:2] + floored(position_cov))[
+            np.ix_(rows, rows)]
+        d = (np.asarray(position, dtype=float) - self.state[0:2])[rows]
+        return math.sqrt(max(float(d @ np.linalg.solve(s, d)), 0.0))
+
+    def update_position(self, position, position_cov, rows=(0, 1)):
+        """Fuse an absolute fix of the pose's x, y (the GPS frame is the
+        output frame); ``rows`` picks the measured axes (0 x, 1 y)."""
+        rows = list(rows)
         jac = np.zeros((2, len(self.state)))
-        jac[0, 0] = jac[1, 1] = jac[0, o] = jac[1, o + 1] = 1.0
-        predicted = self.state[0:2] + self.state[o:o + 2]
-        self._update(jac, np.asarray(position, dtype=float) - predicted,
-                     position_cov)
+        jac[0, 0] = jac[1, 1] = 1.0
+        innovation = np.asarray(position, dtype=float) - self.state[0:2]
+        self._update(jac[rows], innovation[rows],
+                     np.asarray(position_cov)[np.ix_(rows, rows)])
 
 
 class SensorWatch(object):
@@ -328,8 +377,15 @@ class SensorWatch(object):
 class _Reading(object):
     """One validated sensor message: its stamp, value and covariance."""
 
-    def __init__(self, stamp, value, cov, seq):
+    def __init__(self, stamp, value, cov, seq, unmeasured):
         self.stamp, self.value, self.cov, self.seq = stamp, value, cov, seq
+        #: components whose variance said "not measured"
+        self.unmeasured = unmeasured
+
+    @property
+    def measured(self):
+        """Indices of the measured components."""
+        return [i for i, m in enumerate(self.unmeasured) if not m]
 
 
 #: Every sensor the filter knows, in robot_pose_ekf's order.
@@ -340,7 +396,27 @@ _MOTION_SOURCES = ('odom', 'vo')
 SENSOR_KINDS = {'odom': 'wheel odometry, relative pose',
                 'imu': 'gyro yaw, relative',
                 'vo': 'visual odometry, relative pose',
-                'gps': 'absolute x, y'}
+                'gps': 'absolute x, y in the output frame'}
+
+
+def _no_motion_cov(dt):
+    """Covariance of a step of ``dt`` seconds with no motion sensor."""
+    return np.diag(NO_ODOM_VARIANCE_RATE * max(dt, 1e-3))
+
+
+def _increment_cov(increment, reading, dt, scale=1.0):
+    """Covariance of a motion ``increment`` read from ``reading``.
+
+    None at rest (wheels still: a zero-velocity update); the reading's
+    covariance times ``scale`` otherwise, its unmeasured components
+    replaced by the no-motion-sensor growth over ``dt``.
+    """
+    if max(abs(v) for v in increment) < AT_REST:
+        return np.zeros((3, 3))
+    cov = reading.cov * scale
+    unmeasured = np.asarray(reading.unmeasured, dtype=bool)
+    cov[unmeasured, unmeasured] = np.diag(_no_motion_cov(dt))[unmeasured]
+    return cov
 
 
 class GyroOdomFusion(object):
@@ -373,12 +449,14 @@ class GyroOdomFusion(object):
     """
 
     def __init__(self, odom_used=True, imu_used=True, sensor_timeout=1.0,
-                 vo_used=False, gps_used=False):
+                 vo_used=False, gps_used=False, topics=None,
+                 gps_kalman=False):
         if not (odom_used or imu_used or vo_used):
             raise ValueError('at least one of odom_used, imu_used and vo_used '
                              'is needed (GPS alone gives no heading)')
         self.odom_used, self.imu_used = bool(odom_used), bool(imu_used)
         self.vo_used, self.gps_used = bool(vo_used), bool(gps_used)
+        self.gps_kalman = bool(gps_kalman)
         self.sensor_timeout = sensor_timeout
         self._seq = 0
         self.started_at = None  # time of the first step: start-up
@@ -387,6 +465,10 @@ class GyroOdomFusion(object):
         self.inputs = InputCheck()
         self._clock = ClockWatch()
         self.stamp = None
+        #: sensor -> topic, for the texts
+        self.topics = dict(topics or {})
+        self._noted = set()  # (sensor, unmeasured mask) already noted
+        self._notes = []  # notes for the next step's events
         self.restart()
 
     def restart(self, new_clock=False):
@@ -401,7 +483,12 @@ class GyroOdomFusion(object):
         self.watches = {name: SensorWatch(name, self.sensor_timeout)
                         for name in SENSORS}
         self._latest = dict.fromkeys(SENSORS)
+        self._history = {name: collections.deque(maxlen=HISTORY)
+                         for name in SENSORS}
         self._ref = dict.fromkeys(SENSORS)
+        self._time = None  # GPS mode: the filter's time (s)
+        self._was_active = set()  # GPS mode: sensors active at that time
+        self._gps_fused = None  # GPS mode: stamp of the last fix used
         self._last_predict = None
         self.ekf = None
         self.updated = False
@@ -452,23 +539,58 @@ class GyroOdomFusion(object):
     def add_imu(self, now, stamp, yaw, variance):
         """An IMU yaw (radians) with its variance; checked like
         :meth:`add_odom`."""
-        if self._taken('imu', stamp, angles=(yaw,), covariance=[[variance]]):
+        cov, mask = self._screen('imu', [[variance]])
+        if self._taken('imu', stamp, angles=(yaw,), covariance=cov):
             self._add('imu', now, stamp, normalize_angle(yaw),
-                      floored([[variance]])[0, 0])
+                      floored(cov)[0, 0], mask)
 
     def add_gps(self, now, stamp, position, cov2):
         """A GPS fix ``(x, y)`` in metres with its 2x2 covariance; checked
-        like :meth:`add_odom`."""
+        like :meth:`add_odom`, and dropped too for a zero variance (a GPS
+        never knows its position exactly) or a stamp more than
+        :data:`MAX_STAMP_SKEW` from ``now`` (another clock)."""
         x, y = (float(v) for v in position)
-        if self._taken('gps', stamp, position=(x, y), covariance=cov2):
-            self._add('gps', now, stamp, (x, y), floored(cov2))
+        cov, mask = self._screen('gps', cov2)
+        if not self.used('gps'):
+            return
+        measured = np.diag(cov)[~mask]
+        if np.any(measured == 0.0):
+            raise self.inputs.reject('gps', ZERO_VARIANCE, (
+                'the fix\'s covariance has a zero variance: no GPS knows '
+                'its position exactly (set its real covariance)'))
+        if abs(stamp - now) > MAX_STAMP_SKEW:
+            raise self.inputs.reject('gps', OTHER_CLOCK, (
+                'stamp %.3f s is %.1f s from ROS time %.3f s: the GPS stamps '
+                'with another clock (stamp with ROS time)' % (
+                    stamp, stamp - now, now)))
+        if self._taken('gps', stamp, position=(x, y), covariance=cov):
+            self._add('gps', now, stamp, (x, y), floored(cov), mask)
 
     def _add_pose(self, name, now, stamp, pose, cov3):
         x, y, yaw = (float(v) for v in pose)
+        cov, mask = self._screen(name, cov3)
         if self._taken(name, stamp, position=(x, y), angles=(yaw,),
-                       covariance=cov3):
+                       covariance=cov):
             self._add(name, now, stamp, (x, y, normalize_angle(yaw)),
-                      floored(cov3))
+                      floored(cov), mask)
+
+    def _screen(self, name, cov):
+        """Split off the unmeasured components of a sensor covariance;
+        note (once per sensor and set of components) which they are."""
+        cleaned, mask = unmeasured_components(cov)
+        key = (name, tuple(mask))
+        if mask.any() and self.used(name) and key not in self._noted:
+            self._noted.add(key)
+            axes = [a for a, m in zip(_AXES[name], mask) if m]
+            values = ['%g' % v for v, m in zip(np.diag(
+                np.array(cov, dtype=float, ndmin=2)), mask) if m]
+            self._notes.append(('info', '%s on %s: variance %s of %s means '
+                                '"not measured" (at least %g, -1 or inf): '
+                                '%s not fused from it' % (
+                                    name, self.topics.get(name, name),
+                                    ', '.join(values), ', '.join(axes),
+                                    UNMEASURED_VARIANCE, ', '.join(axes))))
+        return cleaned, mask
 
     def _taken(self, name, stamp, **values):
         """False for an unused sensor; raises RejectedInput for a bad
@@ -478,9 +600,11 @@ class GyroOdomFusion(object):
         self.inputs.check(name, stamp, **values)
         return True
 
-    def _add(self, name, now, stamp, value, cov):
+    def _add(self, name, now, stamp, value, cov, unmeasured):
         self._seq += 1
-        self._latest[name] = _Reading(stamp, value, cov, self._seq)
+        reading = _Reading(stamp, value, cov, self._seq, unmeasured)
+        self._latest[name] = reading
+        self._history[name].append(reading)
         self.watches[name].seen(now, stamp)
 
     def used(self, name):
@@ -508,9 +632,11 @@ class GyroOdomFusion(object):
         """
         if self.started_at is None:
             self.started_at = now
-        events = self._check_sensors(now)
+        events, self._notes = self._notes + self._check_sensors(now), []
         self.updated = False
         active = [n for n in self._used() if self.watches[n].active]
+        if self.gps_used:
+            return events + self._step_gps_mode(now, active)
         if self.ekf is None:
             self._last_predict = now
             return events + self._try_start(active)
@@ -522,19 +648,195 @@ class GyroOdomFusion(object):
             with np.errstate(over='ignore', invalid='ignore'):
                 events += self._fuse(now, driver, active, fresh)
         except (ValueError, np.linalg.LinAlgError) as err:
-            self.restart()
-            self.restarts += 1
-            return events + [('warn', 'filter restarted: %s; it starts again '
-                              'from the next %s message' % (
-                                  err, self._start_sensor_text()))]
+            return events + self._restarted(err)
         self._advance_stamp(active)
         return events
+
+    def _restarted(self, err):
+        """Restart after ``err``; the warning event to log."""
+        self.restart()
+        self.restarts += 1
+        return [('warn', 'filter restarted: %s; it starts again from the '
+                 'next %s message' % (err, self._start_sensor_text()))]
+
+    # -- robot_pose_ekf's GPS mode (gps_used) ----------------------------------
+    def _step_gps_mode(self, now, active):
+        """One step with ``gps_used``, as robot_pose_ekf does.
+
+        The filter starts when both the IMU and GPS are active, at the fix
+        and the IMU's heading: its output frame is the GPS frame, with the
+        IMU's yaw taken as heading in it. Each step runs at the filter's
+        time, the oldest of the active sensors' newest stamps, where every
+        sensor is read by interpolation: odometry (and visual odometry)
+        increments since the last step, the IMU's yaw as absolute while GPS
+        is active (relative otherwise), and each new fix once on x, y (the
+        first after GPS starts or returns is skipped).
+        """
+        if self.ekf is None:
+            return self._start_gps_mode(active)
+        if not active:
+            return []
+        t = min([now] + [self._latest[n].stamp for n in active])
+        if t <= self._time:
+            return []
+        # With gps_kalman, step at each new fix's own stamp on the way.
+        times = sorted(set([t] + [r.stamp for r in self._history['gps']
+                                  if self.gps_kalman and 'gps' in active
+                                  and self._time < r.stamp < t]))
+        events = []
+        try:
+            with np.errstate(over='ignore', invalid='ignore'):
+                for step_time in times:
+                    events += self._fuse_at(step_time, active)
+                    self._time = step_time
+                    self._was_active = set(active)
+        except (ValueError, np.linalg.LinAlgError) as err:
+            return self._restarted(err)
+        if self.stamp is None or t > self.stamp:
+            self.stamp, self.updated = t, True
+        return events
+
+    def _start_gps_mode(self, active):
+        if 'imu' not in active or 'gps' not in active:
+            return []
+        fix, imu = self._latest['gps'], self._latest['imu']
+        if len(fix.measured) < 2 or not imu.measured:
+            return []  # noted once when it came in
+        t = fix.stamp
+        yaw = self._value_at('imu', t)
+        cov = np.zeros((3, 3))
+        cov[0:2, 0:2], cov[2, 2] = fix.cov, imu.cov
+        self.ekf = PlanarEkf(fix.value + (yaw,), cov, anchors=())
+        self._time, self._gps_fused = t, t  # this fix is used up
+        self._was_active = set(active)
+        for name in active:
+            self._ref[name] = self._value_at(name, t)
+        if self.stamp is None or t > self.stamp:
+            self.stamp, self.updated = t, True
+        return [('info', 'filter started at the GPS fix and the IMU heading '
+                 '(gps_used: the output frame is the GPS frame): x=%.3f '
+                 'y=%.3f yaw=%.3f' % self.ekf.pose)]
+
+    def _fuse_at(self, t, active):
+        """Predict to filter time ``t`` and fuse every active sensor there."""
+        dt = t - self._time
+        events = []
+        now = {n: self._value_at(n, t) for n in active}
+        ref = {n: self._ref[n] if n in self._was_active else None
+               for n in SENSORS}
+        if 'odom' in active and ref['odom'] is not None:
+            increment = odom_increment(ref['odom'], now['odom'])
+            self.ekf.predict(increment, _increment_cov(
+                increment, self._latest['odom'], dt,
+                scale=dt / self._period('odom', dt)))
+        else:
+            self.ekf.predict((0.0, 0.0, 0.0), _no_motion_cov(dt))
+        self._check_finite()
+        imu, vo = self._latest['imu'], self._latest['vo']
+        if 'imu' in active and imu.measured and 'gps' in active:
+            self.ekf.update_yaw(now['imu'], imu.cov)
+        elif ('imu' in active and imu.measured and ref['imu'] is not None
+              and self.ekf.has_anchor('imu')):
+            self.ekf.update_yaw_increment(
+                normalize_angle(now['imu'] - ref['imu']), imu.cov)
+        if 'vo' in active and ref['vo'] is not None and self.ekf.has_anchor(
+                'vo'):
+            self.ekf.update_pose_increment(
+                odom_increment(ref['vo'], now['vo']),
+                vo.cov * (dt / self._period('vo', dt)), 'vo', vo.measured)
+        for name in ('imu', 'vo'):
+            (self.ekf.set_anchor if name in active
+             else self.ekf.drop_anchor)(name)
+        self._check_finite()
+        if 'gps' in active:
+            events += self._fuse_fix(t, ref['gps'] is None)
+        else:
+            self._gps_fused = None
+        self._ref.update(now)
+        return events
+
+    def _fuse_fix(self, t, first):
+        """Fuse the GPS position at ``t``; the first step after GPS starts
+        or returns only reads it.
+
+        As robot_pose_ekf: at every step, the fix (read at ``t``) pulls the
+        position by the weight its covariance has against odometry's. With
+        ``gps_kalman``: each fix once, with the Kalman gain.
+        """
+        if first:
+            self._gps_fused = self._latest['gps'].stamp
+            return []
+        if self.gps_kalman:
+            fix = next(r for r in reversed(self._history['gps'])
+                       if r.stamp <= t)
+            if fix.stamp <= self._gps_fused:
+                return []
+            self._gps_fused, position = fix.stamp, fix.value
+        else:
+            fix, position = self._latest['gps'], self._value_at('gps', t)
+        if not fix.measured:
+            return []
+        distance = self.ekf.position_distance(position, fix.cov,
+                                              fix.measured)
+        if distance > GPS_GATE_SIGMAS:
+            x, y, _ = self.ekf.pose
+            text = self.inputs.warning(self.inputs.reject(
+                'gps', GPS_JUMP, 'fix (%.2f, %.2f) is %.1f m (%.0f sd) from '
+                'the estimate (%.2f, %.2f): not fused' % (
+                    position + (math.hypot(position[0] - x, position[1] - y),
+                                distance, x, y))), t,
+                'gps on %s' % self.topics.get('gps', 'gps'))
+            return [('warn', text)] if text else []
+        if self.gps_kalman:
+            self.ekf.update_position(position, fix.cov, fix.measured)
+        else:
+            odom = self._latest['odom']
+            motion = (np.diag(odom.cov)[0:2] if 'odom' in self._was_active
+                      else NO_ODOM_VARIANCE_RATE[0:2])
+            self.ekf.blend_position(position, fix.cov,
+                                    motion / (motion + np.diag(fix.cov)),
+                                    fix.measured)
+        self._check_finite()
+        return []
+
+    def _value_at(self, name, t):
+        """Sensor ``name``'s value at time ``t``, interpolated between the
+        two readings around it (the nearest one outside them)."""
+        history = self._history[name]
+        after = None
+        for before in reversed(history):
+            if before.stamp <= t:
+                break
+            after = before
+        else:
+            return history[0].value
+        if after is None or before.stamp == t:
+            return before.value
+        f = (t - before.stamp) / (after.stamp - before.stamp)
+        b = np.atleast_1d(before.value)
+        d = np.atleast_1d(after.value) - b
+        if name != 'gps':  # the last component is a yaw
+            d[-1] = normalize_angle(d[-1])
+        value = [float(v) for v in b + f * d]
+        if name != 'gps':
+            value[-1] = normalize_angle(value[-1])
+        return value[0] if name == 'imu' else tuple(value)
+
+    def _period(self, name, default):
+        """Mean interval of sensor ``name``'s recent readings (s)."""
+        history = self._history[name]
+        if len(history) < 2:
+            return max(default, 1e-6)
+        return max((history[-1].stamp - history[0].stamp)
+                   / (len(history) - 1), 1e-6)
 
     def _fresh(self, name):
         ref = self._ref[name]
         return ref is None or self._latest[name].seq != ref.seq
 
     def _start_sensor_text(self):
+        if self.gps_used:
+            return 'IMU and GPS'
         if self.odom_used:
             return 'odometry'
         return 'visual odometry' if self.vo_used else 'IMU'
@@ -559,27 +861,17 @@ class GyroOdomFusion(object):
                 continue
             if name not in fresh:
                 continue
-            if name == 'imu':
+            if not reading.measured:
+                self.ekf.set_anchor(name)  # nothing measured: re-anchor
+            elif name == 'imu':
                 self.ekf.update_yaw_increment(
                     normalize_angle(reading.value - self._ref[name].value),
                     reading.cov, name)
             else:
                 self.ekf.update_pose_increment(
                     odom_increment(self._ref[name].value, reading.value),
-                    reading.cov, name)
+                    reading.cov, name, reading.measured)
             self._ref[name] = reading
-            self._check_finite()
-        if 'gps' in fresh:
-            reading = self._latest['gps']
-            if self.ekf.offset is None:
-                self.ekf.add_offset(reading.value, reading.cov)
-                ox, oy, _ = self.ekf.offset
-                events.append(('info', 'gps: first fix (%.3f, %.3f); the GPS '
-                               'frame origin is at (%.3f, %.3f) in the output '
-                               'frame' % (reading.value + (-ox, -oy))))
-            else:
-                self.ekf.update_position(reading.value, reading.cov)
-            self._ref['gps'] = reading
             self._check_finite()
         return events
 
@@ -620,8 +912,10 @@ class GyroOdomFusion(object):
         if source is not None:
             if source not in active:
                 return []
+            # The output frame starts at this pose: known exactly, whatever
+            # the sensor's own uncertainty of it.
             first = self._latest[source]
-            self.ekf = PlanarEkf(first.value, first.cov, anchors=())
+            self.ekf = PlanarEkf(first.value, np.zeros((3, 3)), anchors=())
             where = 'the first %s pose' % (
                 'odometry' if source == 'odom' else 'visual odometry')
         else:
@@ -633,8 +927,6 @@ class GyroOdomFusion(object):
             self._ref[name] = self._latest[name]
             if name == 'imu' or (name == 'vo' and source != 'vo'):
                 self.ekf.set_anchor(name)
-        if 'gps' in active:
-            self._ref['gps'] = None  # the first fix places the GPS frame
         self._advance_stamp(active)
         x, y, yaw = self.ekf.pose
         return [('info', 'filter started at %s: x=%.3f y=%.3f yaw=%.3f'
@@ -645,13 +937,10 @@ class GyroOdomFusion(object):
         if driver in _MOTION_SOURCES:
             reading = self._latest[driver]
             increment = odom_increment(self._ref[driver].value, reading.value)
-            at_rest = max(abs(v) for v in increment) < AT_REST
-            self.ekf.predict(increment, np.zeros((3, 3)) if at_rest
-                             else reading.cov)
+            self.ekf.predict(increment, _increment_cov(increment, reading, dt))
             self._ref[driver] = reading
         else:
-            self.ekf.predict((0.0, 0.0, 0.0),
-                             np.diag(NO_ODOM_VARIANCE_RATE * max(dt, 1e-3)))
+            self.ekf.predict((0.0, 0.0, 0.0), _no_motion_cov(dt))
 
     def _advance_stamp(self, active):
         """Stamp the estimate with the newest fused message; note progress.
@@ -689,7 +978,8 @@ class GyroOdomFusion(object):
         """'waiting for odom, imu', 'running' or 'running; dropped: imu'."""
         used = self._used()
         if self.ekf is None:
-            source = next((n for n in _MOTION_SOURCES if self.used(n)), 'imu')
+            source = ('imu and gps' if self.gps_used else
+                      next((n for n in _MOTION_SOURCES if self.used(n)), 'imu'))
             missing = [n for n in used if not self.watches[n].active]
             return 'waiting for %s to start (no data yet from: %s)' % (
                 source, ', '.join(missing) or 'none')
@@ -731,13 +1021,6 @@ class GyroOdomFusion(object):
                          'rad' % (self.stamp, x, y, yaw))
             lines.append('covariance (x, y, yaw): %s' % _matrix_text(
                 self.ekf.cov))
-            offset = self.ekf.offset
-            if offset is not None:
-                lines.append('gps frame origin in the output frame: (%.3f, '
-                             '%.3f) m, sd (%.3f, %.3f) m' % (
-                                 -offset[0], -offset[1],
-                                 math.sqrt(max(offset[2][0, 0], 0.0)),
-                                 math.sqrt(max(offset[2][1, 1], 0.0))))
         lines.append('sensor_timeout %.3g s; filter restarts: %d'
                      % (self.sensor_timeout, self.restarts))
         return '\n'.join(lines)
