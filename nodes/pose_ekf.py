@@ -16,10 +16,10 @@ time and watches for problems:
 * another node publishing the same transform on tf gets an error naming
   it and the fix, repeated every 30 s while it lasts.
 
-Private parameters: robot_pose_ekf's names and defaults, plus
-~publish_tf (false runs pose_ekf as an estimator only); PARAMS below,
-listed by --help. A sensor silent for ~sensor_timeout is left out of the
-fusion and taken back when it returns. The IMU's yaw is used as is: mount it with its z axis up. GPS x, y are
+The parameters have robot_pose_ekf's names and defaults, plus ~publish_tf
+(false runs pose_ekf as an estimator only). A sensor silent for
+~sensor_timeout is left out of the fusion and taken back when it returns.
+The IMU's yaw is used as is: mount it with its z axis up. GPS x, y are
 taken in a frame with the output frame's axes; its origin is learned from
 the fixes (keep the robot still for a few fixes after start-up). A bad
 parameter is logged and the node exits with status 1. Unstamped,
