@@ -10,11 +10,9 @@ odometry.
   rosrun rbx1_nav calibrate_angular.py _start_test:=true
   rosrun dynamic_reconfigure dynparam set /calibrate_angular measured_angle 352
 
-Reconfigure fields (rbx1_nav.cfg.CalibrateAngularConfig, also private
-parameters): test_angle 360 deg, speed 0.5 rad/s, tolerance 1.0 deg,
-odom_angular_scale_correction 1.0, start_test false, measured_angle 0 (deg).
-Other parameters: ~ground_truth_topic '', ~settle 1.0 s, ~rate 20 Hz and the
-runner's ~odom_frame, ~base_frame, ~tf_wait, ~tf_timeout, ~start_delay.
+The first six parameters below are the reconfigure fields
+(rbx1_nav.cfg.CalibrateAngularConfig): dynparam sets them while the node
+runs; the rest are read at start-up.
 """
 from rbx1_nav.calibration import ANGULAR
 from rbx1_nav.cfg import CalibrateAngularConfig

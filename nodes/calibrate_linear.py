@@ -9,11 +9,9 @@ Prints odom_linear_scale_correction = measured / odometry.
   rosrun rbx1_nav calibrate_linear.py _start_test:=true
   rosrun dynamic_reconfigure dynparam set /calibrate_linear measured_distance 0.97
 
-Reconfigure fields (rbx1_nav.cfg.CalibrateLinearConfig, also private
-parameters): test_distance 1.0 m, speed 0.15 m/s, tolerance 0.01 m,
-odom_linear_scale_correction 1.0, start_test false, measured_distance 0.
-Other parameters: ~ground_truth_topic '', ~settle 1.0 s, ~rate 20 Hz and the
-runner's ~odom_frame, ~base_frame, ~tf_wait, ~tf_timeout, ~start_delay.
+The first six parameters below are the reconfigure fields
+(rbx1_nav.cfg.CalibrateLinearConfig): dynparam sets them while the node
+runs; the rest are read at start-up.
 """
 from rbx1_nav.calibration import LINEAR
 from rbx1_nav.cfg import CalibrateLinearConfig

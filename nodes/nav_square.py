@@ -11,12 +11,8 @@ node, ~odom_frame and ~base_frame are honoured.
 Publishes:  cmd_vel (geometry_msgs/Twist), relative.
 Subscribes: odom (nav_msgs/Odometry), only its velocity: the summary counts the
             spells the robot stood still while commanded to move.
-Parameters (private, book's values by default):
-  ~goal_distance 1.0 m    ~goal_angle 90 deg (negative: clockwise)
-  ~linear_speed 0.2 m/s   ~angular_speed 0.7 rad/s   ~angular_tolerance 2 deg
-  ~pause 1.0 s            ~rate 20 Hz   ~precise false and the ~precise_*
-  settings; the runner's ~odom_frame, ~base_frame, ~tf_wait, ~tf_timeout,
-  ~start_delay (see rbx1_nav.ros.runner).
+Parameters: the book's values by default; the last seven are the
+runner's (rbx1_nav.ros.runner), shared by every motion node.
 Exit status: 0 after a completed square, 1 otherwise; the robot is always
 sent a stop.
 """

@@ -6,16 +6,10 @@ Subscribes ``input`` (geometry_msgs/PoseWithCovarianceStamped) and publishes
 ``/robot_pose_ekf/odom_combined`` (where robot_pose_ekf and pose_ekf.py
 publish) and ``/odom_ekf`` so RViz can show the gyro + wheel estimate next
 to the raw ``/odom``. The mapping lives in ``rbx1_nav.odom_ekf``. Should
-nothing come on the input within SILENT s (wall time) of start-up, one
+nothing come on the input within 5 s (wall time, SILENT) of start-up, one
 warning names the topic and the topics that carry
 PoseWithCovarianceStamped.
 
-Private parameters:
-  ~frame_id (str, ''): output frame; empty keeps the input's frame.
-  ~child_frame_id (str, 'base_footprint'): the robot's base frame.
-  ~estimate_twist (bool, true): twist from successive poses, else zero and
-      marked unknown.
-  ~twist_variance (float, 0.01): variance given to an estimated twist.
 A bad parameter is logged and the node exits with status 1. Unstamped,
 out-of-order or repeated poses, NaN or absurd values and negative variances
 are dropped, with one warning per kind every 10 s that counts them, so the

@@ -8,15 +8,8 @@ rbx1_nav.out_and_back, the ROS side in rbx1_nav.ros.runner.
 Publishes:  cmd_vel (geometry_msgs/Twist), relative, so a namespace works.
 Subscribes: odom (nav_msgs/Odometry), only its velocity: the summary counts the
             spells the robot stood still while commanded to move.
-Parameters (private, book's values by default):
-  ~linear_speed 0.15 m/s   ~goal_distance 1.0 m   ~angular_speed 0.5 rad/s
-  ~goal_angle pi rad       ~angular_tolerance 1.0 deg   ~rate 20 Hz
-  ~legs 2                  ~pause 1.0 s           ~precise false
-  ~precise_gain 1.0 /s     ~precise_heading_gain 4.0 /s
-  ~precise_min_linear_speed 0.005 m/s   ~precise_min_angular_speed 0.01 rad/s
-  ~odom_frame odom         ~base_frame '' (try base_footprint, then base_link)
-  ~tf_wait 5.0 s (for the first transform)   ~tf_timeout 1.0 s (staleness)
-  ~start_delay 0.0 s (pause before moving, e.g. to let a bag recorder start)
+Parameters: the book's values by default; the last seven are the
+runner's (rbx1_nav.ros.runner), shared by every motion node.
 Exit status: 0 after a completed course, 1 on bad parameters, missing or
 stale tf, an error or an interruption. The robot is always sent a stop.
 """

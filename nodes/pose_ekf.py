@@ -16,17 +16,17 @@ time and watches for problems:
 * another node publishing the same transform on tf gets an error naming
   it and the fix, repeated every 30 s while it lasts.
 
-Private parameters: robot_pose_ekf's names and defaults, plus
-~publish_tf (false runs pose_ekf as an estimator only); PARAMS below,
-listed by --help. A sensor silent for ~sensor_timeout is left out of the
-fusion and taken back when it returns. The IMU's yaw is used as is: mount it with its z axis up. A sensor
-variance of 1e5 or more, -1 or inf means "not measured": that component
-is not fused (said once at info level). Without GPS the output frame starts
-at the first odometry pose, known exactly. With ~gps_used, as
-robot_pose_ekf: the filter starts at a GPS fix with the IMU's heading (the
-output frame is the GPS frame, the IMU's yaw its heading), steps at the
-oldest of its sensors' newest stamps, takes the IMU's yaw as absolute while
-GPS is active and the fixes on x, y only. A bad
+The parameters have robot_pose_ekf's names and defaults, plus ~publish_tf
+(false runs pose_ekf as an estimator only) and ~gps_kalman. A sensor silent
+for ~sensor_timeout is left out of the fusion and taken back when it
+returns. The IMU's yaw is used as is: mount it with its z axis up. A sensor
+variance of 1e5 or more, -1 or inf means "not measured": that component is
+not fused (said once at info level). Without GPS the output frame starts at
+the first odometry pose, known exactly. With ~gps_used, as robot_pose_ekf:
+the filter starts at a GPS fix with the IMU's heading (the output frame is
+the GPS frame, the IMU's yaw its heading), steps at the oldest of its
+sensors' newest stamps, takes the IMU's yaw as absolute while GPS is active
+and the fixes on x, y only. A bad
 parameter is logged and the node exits with status 1. Unstamped,
 out-of-order, repeated, NaN or absurd sensor messages and negative
 variances are dropped (rbx1_nav.input_check), with one warning per sensor

@@ -15,11 +15,6 @@ next; a course then ends the same at any speed and under any load.
 with only simulators taking part (a course not started yet, or over) it
 runs at ~idle_speed, so a waiting simulator does not spin a core for
 nothing; with nobody taking part, at real time.
-
-Parameters: ~speed (1.0, x real time, 0.001 to 1e6, or max), ~idle_speed
-(10, x real time: with ~speed max, while only simulators take part), ~step
-(0.01 s of sim time per tick when no member asks for a time, 1e-9 to
-0.01), ~start_time (0.0 s, at most 2**31).
 """
 import time
 
@@ -34,7 +29,8 @@ from rbx1_nav.sim_clock import (MAX_SPEED, MAX_START, MAX_STEP, MIN_SPEED, MIN_S
 
 PARAMS = (
     param('speed', 1.0, speed, 'x real time', 'simulated seconds per wall '
-          "second, or max (sim_clock.launch: sim_speed)"),
+          'second (%g to %g), or max (sim_clock.launch: sim_speed)'
+          % (MIN_SPEED, MAX_SPEED)),
     param('idle_speed', 10.0, number, 'x real time', 'with speed max: the '
           'speed while only simulators take part in lockstep',
           minimum=MIN_SPEED, maximum=MAX_SPEED),

@@ -7,11 +7,9 @@ u/o/m/. for arcs, k or space to stop; q/z w/x e/c change the speeds; Q or
 Ctrl-C stops the robot and quits.
 
 Publishes:  cmd_vel (geometry_msgs/Twist), relative, so remap or namespace it.
-Parameters (private):
-  ~linear_speed 0.2 m/s      ~max_linear_speed 1.0 m/s
-  ~angular_speed 1.0 rad/s   ~max_angular_speed 3.0 rad/s
-  ~key_timeout 0.8 s (stop when no motion key came for this long)
-  ~rate 10 Hz (cmd_vel repeats while a motion key is held)
+
+The start speeds ~linear_speed and ~angular_speed must not exceed
+~max_linear_speed and ~max_angular_speed.
 Needs a terminal on stdin: run it with rosrun, or from a launch file with
 launch-prefix="xterm -e". Exit status: 0 after a quit (key, Ctrl-C, SIGINT,
 SIGTERM, rosnode kill, terminal closed), 1 on bad parameters, no terminal or
@@ -171,7 +169,8 @@ def main():
     rospy.init_node('teleop_keyboard')
     try:
         settings = check_settings(
-            lambda name, default: rospy.get_param('~' + name, default))
+            lambda name, default: rospy.get_param('~' + name, default),
+            rospy.get_name())
     except ValueError as err:
         rospy.logerr('teleop_keyboard: bad parameters, not starting: %s', err)
         return 1

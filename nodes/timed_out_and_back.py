@@ -13,11 +13,8 @@ line gives the final pose.
 Publishes:  cmd_vel (geometry_msgs/Twist), relative.
 Subscribes: odom (nav_msgs/Odometry), only its velocity: the summary counts the
             spells the robot stood still while commanded to move.
-Parameters (private, book's values by default):
-  ~linear_speed 0.2 m/s   ~goal_distance 1.0 m   ~angular_speed 1.0 rad/s
-  ~goal_angle pi rad      ~legs 2   ~pause 1.0 s   ~rate 50 Hz
-  and the runner's: ~odom_frame, ~base_frame, ~tf_wait, ~tf_timeout,
-  ~start_delay (see rbx1_nav.ros.runner).
+Parameters: the book's values by default; the last seven are the
+runner's (rbx1_nav.ros.runner), shared by every motion node.
 Exit status: 0 after a completed course, 1 otherwise; the robot is always
 sent a stop.
 """

@@ -26,13 +26,8 @@ the noise and about how many runs would be needed. It writes them to
 ~results (YAML; corrections null when not supported) and plots them to
 ~plot (PNG), together with an earlier ~compare results file.
 
-Parameters (private): ~runs 5, ~side 1.0 m (the paper uses 4 m),
-~linear_speed 0.2 m/s, ~angular_speed 0.5 rad/s, ~pause 1.0 s (after each
-side and turn), ~run_pause 5.0 s, ~wheel_separation 0.26 m (what the driver
-assumes), ~ground_truth_topic '', ~measurements [], ~odometry [],
-~results umbmark.yaml, ~plot umbmark.png, ~compare '', the precise_*
-settings, ~rate 20 Hz and the runner's ~odom_frame, ~base_frame, ~tf_wait,
-~tf_timeout, ~start_delay. Exit status 0 with a result, 1 otherwise.
+The paper's squares have 4 m sides; ~side defaults to 1 m. Exit status 0
+with a result, 1 otherwise.
 """
 import os
 import select

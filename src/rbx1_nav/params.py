@@ -22,6 +22,7 @@ from rbx1_nav.transform_utils import strip_leading_slash
 
 __all__ = ['number', 'integer', 'flag', 'frame', 'text', 'number_list', 'pairs',
            'names', 'raw', 'POSITIVE', 'Param', 'param', 'read_all', 'describe', 'unknown', 'usage',
+           'bounds', 'clear_text', 'check_all',
            'command_line', 'leftovers']
 
 
@@ -231,6 +232,30 @@ def read_all(specs, lookup, prefix=''):
     return values, problems
 
 
+def clear_text(node_name, names):
+    """How to clear the parameters ``names`` of the node ``node_name``
+    (``/nav_square``) from the parameter server, one command each."""
+    return ('A value given as _name:=value stays on the parameter server for '
+            'later runs: clear it with %s' % '; '.join(
+                'rosparam delete %s/%s' % (node_name.rstrip('/'), name)
+                for name in names))
+
+
+def check_all(specs, lookup, node_name):
+    """The checked values of a node's private parameters ``specs``.
+
+    ``lookup`` as for :func:`read_all`. Raises ValueError naming every
+    unusable value, then the ``rosparam delete`` that clears each of them
+    from the parameter server of the node ``node_name``.
+    """
+    values, problems = read_all(specs, lookup, '~')
+    if problems:
+        bad = [spec.name for spec in specs if read_all([spec], lookup)[1]]
+        raise ValueError('%s. %s' % ('; '.join(problems),
+                                     clear_text(node_name, bad)))
+    return values
+
+
 def describe(specs, values):
     """'name value unit, ...' for a start-up log line."""
     def shown(value):
@@ -296,12 +321,31 @@ def leftovers(specs, values, argv, node_name):
             'to start clean' % (describe(old, values), node_name))
 
 
+def bounds(spec):
+    """A spec's bounds as its error message gives them ('> 0 and <= 2'),
+    or '' when it has none."""
+    options = spec.options
+    if ('minimum' not in options and 'maximum' not in options
+            and options.get('allow_zero', True)):
+        return ''
+    return _range_text(options.get('minimum'), options.get('maximum'),
+                       options.get('allow_zero', True))
+
+
 def usage(doc, specs):
-    """``--help`` text: the node's docstring and a table of ``specs``."""
+    """``--help`` text: the node's docstring and a table of ``specs``, one
+    line each: name, default, what it does and its bounds.
+
+    The table is the one list of a node's parameters; the docstring says
+    what the node does, its topics and exit status.
+    """
     lines = [(doc or '').strip(), '',
              'Private parameters (rosrun: _name:=value; launch: <param>):']
     width = max([len(spec.name) for spec in specs] + [4])
     for spec in specs:
         default = describe([spec], {spec.name: spec.default})[len(spec.name) + 1:]
-        lines.append('  ~%-*s  %-18s %s' % (width, spec.name, default, spec.doc))
+        limits = bounds(spec)
+        lines.append(('  ~%-*s  %-18s %s' % (width, spec.name, default, spec.doc
+                                             + (' [%s]' % limits if limits else ''))
+                      ).rstrip())
     return '\n'.join(lines)

@@ -75,23 +75,24 @@ PARAMS = (
 )
 
 
-def check_settings(lookup):
+def check_settings(lookup, node_name='/teleop_keyboard'):
     """Read and check the node's parameters; return {name: float}.
 
     ``lookup(name, default)`` gives a raw value (for the node,
     ``rospy.get_param('~' + name, default)``). Raises ValueError naming
-    every unusable value, with '~' before each name as the user writes it;
-    a speed above its maximum is reported once the values themselves pass.
+    every unusable value, with '~' before each name as the user writes it,
+    and the ``rosparam delete`` that clears each from the node
+    ``node_name``; a speed above its maximum is reported once the values
+    themselves pass.
     """
-    values, problems = params.read_all(PARAMS, lookup, prefix='~')
-    each_valid = not problems
-    for speed in ('linear_speed', 'angular_speed'):
-        top = 'max_' + speed
-        if each_valid and values[speed] > values[top]:
-            problems.append('~%s must be <= ~%s (%g), got %g' % (
-                speed, top, values[top], values[speed]))
-    if problems:
-        raise ValueError('; '.join(problems))
+    values = params.check_all(PARAMS, lookup, node_name)
+    too_fast = [speed for speed in ('linear_speed', 'angular_speed')
+                if values[speed] > values['max_' + speed]]
+    if too_fast:
+        raise ValueError('%s. %s' % ('; '.join(
+            '~%s must be <= ~max_%s (%g), got %g' % (
+                speed, speed, values['max_' + speed], values[speed])
+            for speed in too_fast), params.clear_text(node_name, too_fast)))
     return values
 
 

@@ -4,8 +4,9 @@ import math
 import pytest
 from hypothesis import given, strategies as st
 
-from rbx1_nav.params import (command_line, flag, frame, integer, leftovers, names,
-                             number, number_list, param, text)
+from rbx1_nav.params import (POSITIVE, bounds, check_all, command_line, flag, frame,
+                             integer, leftovers, names, number, number_list, param,
+                             text, usage)
 
 finite = st.floats(allow_nan=False, allow_infinity=False)
 
@@ -238,3 +239,44 @@ def test_no_leftovers_at_defaults_from_the_command_line_or_under_roslaunch():
     assert leftovers(LEFTOVER_SPECS, dict(values, precise=False), ['node.py'], '/n') is None
     # Every launch file clears the node's parameters: they are its own.
     assert leftovers(LEFTOVER_SPECS, values, ['node.py', '__log:=/tmp/n.log'], '/n') is None
+
+
+CLEAR_SPECS = (param('linear_speed', 0.2, number, 'm/s', 'forward speed',
+                     maximum=2.0, **POSITIVE),
+               param('goal_angle', 90.0, number, 'deg', 'turn', minimum=-720.0,
+                     maximum=720.0),
+               param('precise', False, flag, '', 'slow down near each goal'))
+
+
+def test_a_bad_value_error_names_the_rosparam_delete_of_each_bad_parameter():
+    given = {'linear_speed': -1, 'goal_angle': 'x', 'precise': True}
+    with pytest.raises(ValueError) as err:
+        check_all(CLEAR_SPECS, lambda name, default: given.get(name, default),
+                  '/robot1/nav_square')
+    message = str(err.value)
+    assert message.startswith('~linear_speed must be > 0 and <= 2, got -1; '
+                              "~goal_angle must be a number, got 'x'. ")
+    assert message.endswith('clear it with rosparam delete '
+                            '/robot1/nav_square/linear_speed; rosparam delete '
+                            '/robot1/nav_square/goal_angle')
+    assert 'NAME' not in message and '/precise' not in message
+
+
+def test_check_all_returns_the_checked_values():
+    given = {'linear_speed': '0.5', 'precise': 'true'}
+    assert check_all(CLEAR_SPECS, lambda name, default: given.get(name, default),
+                     '/n') == {'linear_speed': 0.5, 'goal_angle': 90.0,
+                               'precise': True}
+
+
+def test_help_lists_each_parameter_once_with_default_and_bounds():
+    text = usage('node.py - a node.', CLEAR_SPECS)
+    assert text.count('~linear_speed ') == 1
+    assert bounds(CLEAR_SPECS[0]) == '> 0 and <= 2'
+    assert bounds(CLEAR_SPECS[2]) == ''
+    lines = text.split('Private parameters (rosrun: _name:=value; launch: '
+                       '<param>):\n', 1)[1].splitlines()
+    assert lines[0].split() == ['~linear_speed', '0.2', 'm/s', 'forward',
+                                'speed', '[>', '0', 'and', '<=', '2]']
+    assert lines[2].split() == ['~precise', 'off', 'slow', 'down', 'near',
+                                'each', 'goal']

@@ -211,7 +211,10 @@ def test_speeds_must_be_within_their_maximums():
         settings(linear_speed=1.5, angular_speed=3.5)
     assert str(err.value) == (
         '~linear_speed must be <= ~max_linear_speed (1), got 1.5; '
-        '~angular_speed must be <= ~max_angular_speed (3), got 3.5')
+        '~angular_speed must be <= ~max_angular_speed (3), got 3.5. A value '
+        'given as _name:=value stays on the parameter server for later runs: '
+        'clear it with rosparam delete /teleop_keyboard/linear_speed; '
+        'rosparam delete /teleop_keyboard/angular_speed')
     assert settings(linear_speed=1.5, max_linear_speed=1.5,
                     max_angular_speed=MAX_ANGULAR_SPEED)['linear_speed'] == 1.5
 
@@ -221,3 +224,6 @@ def test_every_bad_setting_is_reported_at_once():
         settings(linear_speed=-1, key_timeout='x')
     assert '~linear_speed' in str(err.value)
     assert '~key_timeout' in str(err.value)
+    assert str(err.value).endswith(
+        'rosparam delete /teleop_keyboard/linear_speed; '
+        'rosparam delete /teleop_keyboard/key_timeout')

@@ -96,16 +96,9 @@ def read_params(specs):
     Raises ValueError naming every unusable value and the command that
     clears each from the parameter server.
     """
-    def lookup(name, default):
-        return rospy.get_param('~' + name, default)
-    values, problems = params.read_all(specs, lookup, '~')
-    if problems:
-        bad = [spec.name for spec in specs if params.read_all([spec], lookup)[1]]
-        raise ValueError(
-            '%s. A value given as _name:=value stays on the parameter server '
-            'for later runs: clear it with %s' % ('; '.join(problems), '; '.join(
-                'rosparam delete %s/%s' % (rospy.get_name(), name) for name in bad)))
-    return values
+    return params.check_all(
+        specs, lambda name, default: rospy.get_param('~' + name, default),
+        rospy.get_name())
 
 
 def warn_unknown(name, specs):
