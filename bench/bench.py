@@ -22,6 +22,7 @@ Sections (``--sections``, all by default):
 - scale: N robots at 1x, separate processes and one fake_fleet
   (bench/fleet_scale.py).
 - physics: the kinematic and the physics robot (MuJoCo) side by side: each
+  model stepped alone without ROS (50 Hz, a command each step), each robot
   alone under lockstep at full speed (``idle_speed:=1000000``: unpaced;
   simulated seconds per wall second, read from /clock), the default course at full speed on each, and how
   many physics robots one fake_fleet keeps at 1x (``--robots``).
@@ -223,17 +224,37 @@ def alone(physics, seconds=10.0):
         graph.close()
 
 
+def model_only(physics, seconds=60.0, rate=50.0):
+    """Simulated seconds per wall second of the model alone, no ROS: one
+    robot stepped at ``rate`` Hz with a command every step."""
+    sys.path.insert(0, os.path.join(os.path.dirname(HERE), 'src'))
+    from rbx1_nav.diff_drive import DiffDriveFleet
+    from rbx1_nav.physics_robot import PhysicsFleet
+    fleet = PhysicsFleet(1) if physics else DiffDriveFleet(1)
+    now = 0.0
+    fleet.step(now)
+    start = time.perf_counter()
+    for _ in range(int(seconds * rate)):
+        fleet.command(0, 0.15, 0.3, now)
+        now += 1.0 / rate
+        fleet.step(now)
+    return seconds / (time.perf_counter() - start)
+
+
 def physics(counts):
     """The kinematic and the physics robot side by side (see the module
     docstring), and the physics fleet at 1x."""
     rows = []
     for robot in (False, True):
         name = 'physics' if robot else 'kinematic'
+        model = model_only(robot)
+        log('physics: the %s model alone (no ROS): %.0fx' % (name, model))
         speedup = alone(robot)
         log('physics: the %s robot alone at max: %.0fx' % (name, speedup))
         result = course(physics=robot)
         log('physics: course on the %s robot at max: %s' % (name, describe(result)))
-        rows.append(dict(robot=name, alone=speedup, completed=result['status'] == 0,
+        rows.append(dict(robot=name, model=model, alone=speedup,
+                         completed=result['status'] == 0,
                          course_speedup=(result['sim_s'] / result['wall_s']
                                          if result.get('wall_s') else None),
                          error_mm=result.get('error_mm'),
@@ -373,11 +394,13 @@ def markdown(results):
     if 'physics' in results:
         phys = results['physics']
         out += ['## The physics robot (MuJoCo) beside the kinematic one', '',
-                '| robot | alone, lockstep max | default course at max | final error '
-                '(ground truth) |', '|---|---|---|---|']
+                '| robot | model alone, no ROS | robot alone, lockstep unpaced | '
+                'default course at max | final error (ground truth) |',
+                '|---|---|---|---|---|']
         for r in phys['robots']:
-            out.append('| %s | %s x | %s x | %s mm, %s deg |' % (
-                r['robot'], fmt(r['alone'], '%.0f'), fmt(r['course_speedup']),
+            out.append('| %s | %s x | %s x | %s x | %s mm, %s deg |' % (
+                r['robot'], fmt(r.get('model'), '%.0f'), fmt(r['alone'], '%.0f'),
+                fmt(r['course_speedup']),
                 fmt(r['error_mm']), fmt(r['heading_deg'], '%+.2f')))
         out += ['', 'Physics robots in one fake_fleet at 1x: up to %s hold (every '
                 'course within %g mm, %g deg by its odometry and by ground truth: '
