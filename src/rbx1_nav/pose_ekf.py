@@ -935,9 +935,13 @@ class GyroOdomFusion(object):
     def _predict(self, driver, dt):
         """Predict with the driver's increment, or 'no motion' without one."""
         if driver in _MOTION_SOURCES:
-            reading = self._latest[driver]
-            increment = odom_increment(self._ref[driver].value, reading.value)
-            self.ekf.predict(increment, _increment_cov(increment, reading, dt))
+            reading, ref = self._latest[driver], self._ref[driver]
+            increment = odom_increment(ref.value, reading.value)
+            # An unmeasured component grows over the time the increment
+            # spans (its two stamps), not over the filter's step: when
+            # the step falls between two messages must not matter.
+            self.ekf.predict(increment, _increment_cov(
+                increment, reading, reading.stamp - ref.stamp))
             self._ref[driver] = reading
         else:
             self.ekf.predict((0.0, 0.0, 0.0), _no_motion_cov(dt))
