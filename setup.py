@@ -3,6 +3,6 @@ from setuptools import setup
 from catkin_pkg.python_setup import generate_distutils_setup
 
 setup(**generate_distutils_setup(
-    packages=['rbx1_nav', 'rbx1_nav.ros'],
+    packages=['rbx1_nav', 'rbx1_nav.pose_ekf', 'rbx1_nav.ros'],
     package_dir={'': 'src'},
 ))

@@ -1,0 +1,441 @@
+"""The fusion of pose_ekf: when the filter starts, steps and restarts,
+and which sensor does what in it.
+
+:class:`GyroOdomFusion` takes the sensors' readings through
+:class:`rbx1_nav.pose_ekf.sensors.SensorInputs` and runs the filter of
+:mod:`rbx1_nav.pose_ekf.ekf` on them: without GPS it steps on each new
+odometry message (without odometry, visual odometry; without either, the
+IMU), predicting with the driving sensor's increment and fusing the
+gyro's (and visual odometry's) change since its last update; with
+``gps_used`` it steps as robot_pose_ekf does, at the oldest of the active
+sensors' newest stamps. It applies the sensor timeouts, restarts itself
+should its estimate stop being finite or ROS time move backwards, and
+gives its state as text through :mod:`rbx1_nav.pose_ekf.status`. No rospy.
+"""
+import math
+
+import numpy as np
+
+from rbx1_nav.input_check import GPS_JUMP, ClockWatch
+from rbx1_nav.pose_ekf.ekf import (NO_ODOM_VARIANCE_RATE, PlanarEkf,
+                                   increment_cov, no_motion_cov,
+                                   odom_increment)
+from rbx1_nav.pose_ekf.sensors import MOTION_SOURCES, SENSORS, SensorInputs
+from rbx1_nav.pose_ekf.status import state_text, status_text
+from rbx1_nav.transform_utils import normalize_angle
+
+__all__ = ['GyroOdomFusion', 'GPS_GATE_SIGMAS']
+
+#: GPS in robot_pose_ekf's mode: a fix farther than this many standard
+#: deviations (of the fix and the estimate together) from the prediction is
+#: dropped as a jump, not fused.
+GPS_GATE_SIGMAS = 10.0
+
+
+class GyroOdomFusion(SensorInputs):
+    """The whole robot_pose_ekf-like fusion, fed plain values.
+
+    Sensors: wheel odometry (``odom``), a gyro's yaw (``imu``), visual
+    odometry (``vo``) and GPS (``gps``). The first active of odometry and
+    visual odometry drives the prediction with its increments; the gyro and
+    (while odometry drives) visual odometry are fused as relative
+    measurements of the motion since their previous update. Without GPS
+    the output frame starts at the first odometry pose, known exactly. With
+    ``gps_used`` the filter works as robot_pose_ekf does
+    (:meth:`_step_gps_mode`): it starts at a fix with the IMU's heading,
+    takes the IMU's yaw as absolute while GPS is active and the fixes on
+    x, y only (z is ignored).
+
+    Call :meth:`add_odom` / :meth:`add_imu` / :meth:`add_vo` /
+    :meth:`add_gps` per message (their checks and timeouts are
+    :class:`rbx1_nav.pose_ekf.sensors.SensorInputs`) and :meth:`step` at the filter rate.
+    :meth:`step` returns log events ``(level, text)``; after it,
+    :attr:`estimate` is ``(stamp, pose, cov3)`` or None, and :attr:`updated`
+    says whether this step fused new data. Should a step ever leave a
+    non-finite estimate, the filter :meth:`restart` s (with a warning event)
+    instead of reporting it.
+
+    Every reading passes :attr:`inputs` (an
+    :class:`rbx1_nav.input_check.InputCheck`): an unstamped, out-of-order,
+    repeated, NaN or absurd reading raises
+    :class:`rbx1_nav.input_check.RejectedInput` and is not kept, so the
+    estimate's stamp never goes back. Call :meth:`check_clock` with the
+    current ROS time before each reading and step: should it move
+    backwards, the filter restarts from the next readings on the new clock.
+    """
+
+    def __init__(self, odom_used=True, imu_used=True, sensor_timeout=1.0,
+                 vo_used=False, gps_used=False, topics=None,
+                 gps_kalman=False):
+        if not (odom_used or imu_used or vo_used):
+            raise ValueError('at least one of odom_used, imu_used and vo_used '
+                             'is needed (GPS alone gives no heading)')
+        super(GyroOdomFusion, self).__init__(odom_used, imu_used, vo_used,
+                                             gps_used, sensor_timeout, topics)
+        self.gps_kalman = bool(gps_kalman)
+        self.restarts = 0
+        self._clock = ClockWatch()
+        self.stamp = None
+        self.restart()
+
+    def restart(self, new_clock=False):
+        """Forget the estimate and every reading received so far.
+
+        The filter starts again like a new one: from the next odometry
+        message (without odometry, from the next visual odometry or IMU
+        message). Its readings and its estimate must still be newer than
+        the last ones, unless ``new_clock`` (ROS time moved backwards):
+        then the next readings are taken whatever their stamps.
+        """
+        self.forget_readings()
+        self._ref = dict.fromkeys(SENSORS)
+        self._time = None  # GPS mode: the filter's time (s)
+        self._was_active = set()  # GPS mode: sensors active at that time
+        self._gps_fused = None  # GPS mode: stamp of the last fix used
+        self._last_predict = None
+        self.ekf = None
+        self.updated = False
+        if new_clock:
+            self.stamp = None
+            self.inputs.new_clock()
+
+    def check_clock(self, now):
+        """Seconds ROS time moved back since the previous call, or 0.0.
+
+        On a move back (a bag looping, a simulator restarted) the filter
+        restarts on the new clock at once, and start-up is ``now``.
+        """
+        back = self._clock.moved_back(now)
+        if back > 0.0:
+            self.restart(new_clock=True)
+            self.restarts += 1
+            self.started_at = now
+        return back
+
+    @property
+    def estimate(self):
+        """``(stamp, (x, y, yaw), cov3)`` or None before the filter starts."""
+        if self.ekf is None:
+            return None
+        return self.stamp, self.ekf.pose, self.ekf.cov.copy()
+
+    # -- the filter step ------------------------------------------------------
+    def _driver(self, active):
+        """The sensor whose messages step the filter, or None."""
+        for name in MOTION_SOURCES + ('imu',):
+            if name in active:
+                return name
+        return None
+
+    def step(self, now):
+        """Run one filter step at time ``now``; return log events.
+
+        With odometry active the filter steps on each new odometry message
+        (the other sensors' news is fused with it); without odometry on
+        each new visual odometry message, and without either on each new
+        IMU message.
+        """
+        if self.started_at is None:
+            self.started_at = now
+        events, self._notes = self._notes + self._check_sensors(now), []
+        self.updated = False
+        active = [n for n in self.used_sensors() if self.watches[n].active]
+        if self.gps_used:
+            return events + self._step_gps_mode(now, active)
+        if self.ekf is None:
+            self._last_predict = now
+            return events + self._try_start(active)
+        driver = self._driver(active)
+        if driver is None or not self._fresh(driver):
+            return events
+        fresh = [n for n in active if self._fresh(n)]
+        try:
+            with np.errstate(over='ignore', invalid='ignore'):
+                events += self._fuse(now, driver, active, fresh)
+        except (ValueError, np.linalg.LinAlgError) as err:
+            return events + self._restarted(err)
+        self._advance_stamp(active)
+        return events
+
+    def _restarted(self, err):
+        """Restart after ``err``; the warning event to log."""
+        self.restart()
+        self.restarts += 1
+        return [('warn', 'filter restarted: %s; it starts again from the '
+                 'next %s message' % (err, self._start_sensor_text()))]
+
+    # -- robot_pose_ekf's GPS mode (gps_used) ----------------------------------
+    def _step_gps_mode(self, now, active):
+        """One step with ``gps_used``, as robot_pose_ekf does.
+
+        The filter starts when both the IMU and GPS are active, at the fix
+        and the IMU's heading: its output frame is the GPS frame, with the
+        IMU's yaw taken as heading in it. Each step runs at the filter's
+        time, the oldest of the active sensors' newest stamps, where every
+        sensor is read by interpolation: odometry (and visual odometry)
+        increments since the last step, the IMU's yaw as absolute while GPS
+        is active (relative otherwise), and each new fix once on x, y (the
+        first after GPS starts or returns is skipped).
+        """
+        if self.ekf is None:
+            return self._start_gps_mode(active)
+        if not active:
+            return []
+        t = min([now] + [self._latest[n].stamp for n in active])
+        if t <= self._time:
+            return []
+        # With gps_kalman, step at each new fix's own stamp on the way.
+        times = sorted(set([t] + [r.stamp for r in self._history['gps']
+                                  if self.gps_kalman and 'gps' in active
+                                  and self._time < r.stamp < t]))
+        events = []
+        try:
+            with np.errstate(over='ignore', invalid='ignore'):
+                for step_time in times:
+                    events += self._fuse_at(step_time, active)
+                    self._time = step_time
+                    self._was_active = set(active)
+        except (ValueError, np.linalg.LinAlgError) as err:
+            return self._restarted(err)
+        if self.stamp is None or t > self.stamp:
+            self.stamp, self.updated = t, True
+        return events
+
+    def _start_gps_mode(self, active):
+        if 'imu' not in active or 'gps' not in active:
+            return []
+        fix, imu = self._latest['gps'], self._latest['imu']
+        if len(fix.measured) < 2 or not imu.measured:
+            return []  # noted once when it came in
+        t = fix.stamp
+        yaw = self._value_at('imu', t)
+        cov = np.zeros((3, 3))
+        cov[0:2, 0:2], cov[2, 2] = fix.cov, imu.cov
+        self.ekf = PlanarEkf(fix.value + (yaw,), cov, anchors=())
+        self._time, self._gps_fused = t, t  # this fix is used up
+        self._was_active = set(active)
+        for name in active:
+            self._ref[name] = self._value_at(name, t)
+        if self.stamp is None or t > self.stamp:
+            self.stamp, self.updated = t, True
+        return [('info', 'filter started at the GPS fix and the IMU heading '
+                 '(gps_used: the output frame is the GPS frame): x=%.3f '
+                 'y=%.3f yaw=%.3f' % self.ekf.pose)]
+
+    def _fuse_at(self, t, active):
+        """Predict to filter time ``t`` and fuse every active sensor there."""
+        dt = t - self._time
+        events = []
+        now = {n: self._value_at(n, t) for n in active}
+        ref = {n: self._ref[n] if n in self._was_active else None
+               for n in SENSORS}
+        if 'odom' in active and ref['odom'] is not None:
+            increment = odom_increment(ref['odom'], now['odom'])
+            self.ekf.predict(increment, increment_cov(
+                increment, self._latest['odom'], dt,
+                scale=dt / self._period('odom', dt)))
+        else:
+            self.ekf.predict((0.0, 0.0, 0.0), no_motion_cov(dt))
+        self._check_finite()
+        imu, vo = self._latest['imu'], self._latest['vo']
+        if 'imu' in active and imu.measured and 'gps' in active:
+            self.ekf.update_yaw(now['imu'], imu.cov)
+        elif ('imu' in active and imu.measured and ref['imu'] is not None
+              and self.ekf.has_anchor('imu')):
+            self.ekf.update_yaw_increment(
+                normalize_angle(now['imu'] - ref['imu']), imu.cov)
+        if 'vo' in active and ref['vo'] is not None and self.ekf.has_anchor(
+                'vo'):
+            self.ekf.update_pose_increment(
+                odom_increment(ref['vo'], now['vo']),
+                vo.cov * (dt / self._period('vo', dt)), 'vo', vo.measured)
+        for name in ('imu', 'vo'):
+            (self.ekf.set_anchor if name in active
+             else self.ekf.drop_anchor)(name)
+        self._check_finite()
+        if 'gps' in active:
+            events += self._fuse_fix(t, ref['gps'] is None)
+        else:
+            self._gps_fused = None
+        self._ref.update(now)
+        return events
+
+    def _fuse_fix(self, t, first):
+        """Fuse the GPS position at ``t``; the first step after GPS starts
+        or returns only reads it.
+
+        As robot_pose_ekf: at every step, the fix (read at ``t``) pulls the
+        position by the weight its covariance has against odometry's. With
+        ``gps_kalman``: each fix once, with the Kalman gain.
+        """
+        if first:
+            self._gps_fused = self._latest['gps'].stamp
+            return []
+        if self.gps_kalman:
+            fix = next(r for r in reversed(self._history['gps'])
+                       if r.stamp <= t)
+            if fix.stamp <= self._gps_fused:
+                return []
+            self._gps_fused, position = fix.stamp, fix.value
+        else:
+            fix, position = self._latest['gps'], self._value_at('gps', t)
+        if not fix.measured:
+            return []
+        distance = self.ekf.position_distance(position, fix.cov,
+                                              fix.measured)
+        if distance > GPS_GATE_SIGMAS:
+            x, y, _ = self.ekf.pose
+            text = self.inputs.warning(self.inputs.reject(
+                'gps', GPS_JUMP, 'fix (%.2f, %.2f) is %.1f m (%.0f sd) from '
+                'the estimate (%.2f, %.2f): not fused' % (
+                    position + (math.hypot(position[0] - x, position[1] - y),
+                                distance, x, y))), t,
+                'gps on %s' % self.topics.get('gps', 'gps'))
+            return [('warn', text)] if text else []
+        if self.gps_kalman:
+            self.ekf.update_position(position, fix.cov, fix.measured)
+        else:
+            odom = self._latest['odom']
+            motion = (np.diag(odom.cov)[0:2] if 'odom' in self._was_active
+                      else NO_ODOM_VARIANCE_RATE[0:2])
+            self.ekf.blend_position(position, fix.cov,
+                                    motion / (motion + np.diag(fix.cov)),
+                                    fix.measured)
+        self._check_finite()
+        return []
+
+    def _fresh(self, name):
+        ref = self._ref[name]
+        return ref is None or self._latest[name].seq != ref.seq
+
+    def _start_sensor_text(self):
+        if self.gps_used:
+            return 'IMU and GPS'
+        if self.odom_used:
+            return 'odometry'
+        return 'visual odometry' if self.vo_used else 'IMU'
+
+    def _fuse(self, now, driver, active, fresh):
+        """Predict to ``now`` with the driver; fuse the others' news."""
+        events = []
+        self._predict(driver, max(now - self._last_predict, 0.0))
+        self._last_predict = now
+        self._check_finite()
+        for name in ('imu', 'vo'):
+            relative = name in active and (name == 'imu' or name != driver)
+            if not relative:
+                self.ekf.drop_anchor(name)
+                continue
+            reading = self._latest[name]
+            if not self.ekf.has_anchor(name) or self._ref[name] is None:
+                # A new anchor: measure from here on (e.g. visual odometry
+                # after odometry came back and took over the prediction).
+                self._ref[name] = reading
+                self.ekf.set_anchor(name)
+                continue
+            if name not in fresh:
+                continue
+            if not reading.measured:
+                self.ekf.set_anchor(name)  # nothing measured: re-anchor
+            elif name == 'imu':
+                self.ekf.update_yaw_increment(
+                    normalize_angle(reading.value - self._ref[name].value),
+                    reading.cov, name)
+            else:
+                self.ekf.update_pose_increment(
+                    odom_increment(self._ref[name].value, reading.value),
+                    reading.cov, name, reading.measured)
+            self._ref[name] = reading
+            self._check_finite()
+        return events
+
+    def _check_finite(self):
+        """ValueError unless the filter's mean and covariance are finite."""
+        if not (np.all(np.isfinite(self.ekf.state))
+                and np.all(np.isfinite(self.ekf.state_cov))):
+            raise ValueError('the estimate is no longer finite')
+
+    def _check_sensors(self, now):
+        """Apply timeouts: a lost sensor is left out, a returning one re-based."""
+        events = []
+        for name in self.used_sensors():
+            change = self.watches[name].check(now)
+            if change == 'lost':
+                self._ref[name] = None
+                if self.ekf is not None:
+                    self.ekf.drop_anchor(name)
+                events.append(('warn', '%s timed out: no message for %.2f s; '
+                               'fusing without it' % (
+                                   name, self.watches[name].timeout)))
+            elif change in ('started', 'back'):
+                # A returning sensor starts a new reference: its jump while
+                # away (e.g. a restarted driver) is never fused. GPS is
+                # absolute: its frame origin stays valid.
+                self._ref[name] = (None if name == 'gps'
+                                   else self._latest[name])
+                if name in ('imu', 'vo') and self.ekf is not None:
+                    self.ekf.set_anchor(name)
+                if change == 'back':
+                    events.append(('info', '%s is back; fusing it again'
+                                   % name))
+        return events
+
+    def _try_start(self, active):
+        """Start at the first odometry (else visual odometry, else IMU)."""
+        source = next((n for n in MOTION_SOURCES if self.used(n)), None)
+        if source is not None:
+            if source not in active:
+                return []
+            # The output frame starts at this pose: known exactly, whatever
+            # the sensor's own uncertainty of it.
+            first = self._latest[source]
+            self.ekf = PlanarEkf(first.value, np.zeros((3, 3)), anchors=())
+            where = 'the first %s pose' % (
+                'odometry' if source == 'odom' else 'visual odometry')
+        else:
+            if 'imu' not in active:
+                return []
+            self.ekf = PlanarEkf((0.0, 0.0, 0.0), np.zeros((3, 3)), anchors=())
+            where = 'the origin (no odometry used)'
+        for name in active:
+            self._ref[name] = self._latest[name]
+            if name == 'imu' or (name == 'vo' and source != 'vo'):
+                self.ekf.set_anchor(name)
+        self._advance_stamp(active)
+        x, y, yaw = self.ekf.pose
+        return [('info', 'filter started at %s: x=%.3f y=%.3f yaw=%.3f'
+                 % (where, x, y, yaw))]
+
+    def _predict(self, driver, dt):
+        """Predict with the driver's increment, or 'no motion' without one."""
+        if driver in MOTION_SOURCES:
+            reading, ref = self._latest[driver], self._ref[driver]
+            increment = odom_increment(ref.value, reading.value)
+            # An unmeasured component grows over the time the increment
+            # spans (its two stamps), not over the filter's step: when
+            # the step falls between two messages must not matter.
+            self.ekf.predict(increment, increment_cov(
+                increment, reading, reading.stamp - ref.stamp))
+            self._ref[driver] = reading
+        else:
+            self.ekf.predict((0.0, 0.0, 0.0), no_motion_cov(dt))
+
+    def _advance_stamp(self, active):
+        """Stamp the estimate with the newest fused message; note progress.
+
+        The stamp never goes back, not even across a :meth:`restart` (only
+        on a new clock): an estimate no newer than the last is not news.
+        """
+        stamp = max(self._latest[n].stamp for n in active)
+        if self.stamp is None or stamp > self.stamp:
+            self.stamp = stamp
+            self.updated = True
+
+    # -- status ---------------------------------------------------------------
+    def state(self):
+        """'waiting for odom, imu', 'running' or 'running; dropped: imu'."""
+        return state_text(self)
+
+    def status_text(self, now, topics=None):
+        """A human-readable status (:func:`rbx1_nav.pose_ekf.status.status_text`)."""
+        return status_text(self, now, topics)
