@@ -17,7 +17,8 @@ time and watches for problems:
   it and the fix, repeated every 30 s while it lasts.
 
 The parameters have robot_pose_ekf's names and defaults, plus ~publish_tf
-(false runs pose_ekf as an estimator only) and ~gps_kalman. A sensor silent
+(false runs pose_ekf as an estimator only), ~gps_kalman and
+~gps_frame_rotation. A sensor silent
 for ~sensor_timeout is left out of the fusion and taken back when it
 returns. The IMU's yaw is used as is: mount it with its z axis up. A sensor
 variance of 1e5 or more, -1 or inf means "not measured": that component is
@@ -25,8 +26,12 @@ not fused (said once at info level). Without GPS the output frame starts at
 the first odometry pose, known exactly. With ~gps_used, as robot_pose_ekf:
 the filter starts at a GPS fix with the IMU's heading (the output frame is
 the GPS frame, the IMU's yaw its heading), steps at the oldest of its
-sensors' newest stamps, takes the IMU's yaw as absolute while GPS is active
-and the fixes on x, y only. A bad
+sensors' newest stamps (read off the stamps ~freq times a second, so the
+answer does not depend on when messages arrive), takes the IMU's yaw as
+absolute while GPS is active and the fixes on x, y only. With
+~gps_frame_rotation the IMU's heading is only the prior of the heading in
+the GPS frame: the rotation between the two is estimated from the fixes
+as the robot moves. A bad
 parameter is logged and the node exits with status 1. Unstamped,
 out-of-order, repeated, NaN or absurd sensor messages and negative
 variances are dropped (rbx1_nav.input_check), with one warning per sensor
@@ -38,6 +43,7 @@ Should the ROS master restart, the node says so within a few seconds and
 registers its topics, tf and service with the new master, so RViz and new
 nodes find them again (rbx1_nav.ros.master); its connections go on.
 """
+import math
 import threading
 
 import rospy
@@ -83,6 +89,14 @@ PARAMS = (
     params.param('gps_kalman', False, params.flag, '',
                  'with gps_used: fuse each fix once with its covariance '
                  '(Kalman gain) instead of robot_pose_ekf\'s per-step weight'),
+    params.param('gps_frame_rotation', False, params.flag, '',
+                 'with gps_used: estimate the rotation between the GPS frame '
+                 'and the IMU\'s heading instead of taking the IMU\'s heading '
+                 'as true in it (fixes fused as with gps_kalman)'),
+    params.param('gps_frame_rotation_sd', 30.0, params.number, 'deg',
+                 'with gps_frame_rotation: the prior standard deviation of '
+                 'that rotation', minimum=0.0, maximum=180.0,
+                 allow_zero=False),
     params.param('publish_tf', True, params.flag, '',
                  'publish tf output_frame -> base_footprint_frame'),
 )
@@ -115,9 +129,11 @@ class PoseEkfNode(object):
         self.publish_tf = values['publish_tf']
         used = {name: values[name + '_used'] for name in TOPICS}
         topics = {name: rospy.resolve_name(TOPICS[name][0]) for name in TOPICS}
-        self.fusion = GyroOdomFusion(used['odom'], used['imu'],
-                                     values['sensor_timeout'], used['vo'],
-                                     used['gps'], topics, values['gps_kalman'])
+        self.fusion = GyroOdomFusion(
+            used['odom'], used['imu'], values['sensor_timeout'], used['vo'],
+            used['gps'], topics, values['gps_kalman'],
+            math.radians(values['gps_frame_rotation_sd'])
+            if values['gps_frame_rotation'] else None, self.freq)
         if not started.is_zero():
             self.fusion.start(started.to_sec())
         self.lock = threading.Lock()
@@ -261,12 +277,12 @@ class PoseEkfNode(object):
             now = self._clock_now(texts)
             try:
                 events = self.fusion.step(now)
-                estimate = self.fusion.estimate if self.fusion.updated else None
-                if not is_finite_estimate(estimate):
+                estimates = self.fusion.new_estimates
+                if not all(is_finite_estimate(e) for e in estimates):
                     raise ValueError('the estimate is not finite')
             except (ValueError, ArithmeticError) as err:
                 self.fusion.restart()
-                events, estimate = [], None
+                events, estimates = [], []
                 rospy.logwarn_throttle(WARN_PERIOD, 'pose_ekf: filter restarted'
                                        ' (%s); waiting for new sensor data' % err)
             silent = self.fusion.silent_sensors(now)
@@ -284,7 +300,7 @@ class PoseEkfNode(object):
         for caller in gone:
             rospy.loginfo('pose_ekf: %s no longer publishes %s on tf',
                           caller, self.base_frame)
-        if estimate is not None:
+        for estimate in estimates:
             self.publish(*estimate)
 
     def publish(self, stamp, pose, cov3):

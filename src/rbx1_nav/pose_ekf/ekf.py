@@ -99,9 +99,10 @@ class PlanarEkf(object):
     previous update (:meth:`set_anchor`). Each anchor stays in the state
     (a "stochastic clone"), so the joint distribution of every anchor and the
     current pose is kept and a change spanning several predict steps is fused
-    exactly. :meth:`add_offset` appends the 2-D offset between an absolute
-    position sensor's frame (GPS) and the output frame, which
-    :meth:`update_position` then refines with each fix.
+    exactly. :meth:`add_rotation` appends the rotation between the IMU's
+    heading reference and the output frame (the GPS frame), which each
+    absolute yaw (:meth:`update_yaw`) and, as the robot moves, each fix
+    (:meth:`update_position`) refine.
 
     :attr:`mean` and :attr:`cov` are views of the pose part of the state
     (3 and 3x3); the whole state is :attr:`state` / :attr:`state_cov`.
@@ -235,11 +236,36 @@ class PlanarEkf(object):
                          np.asarray(increment_cov)[np.ix_(rows, rows)])
         self.set_anchor(name)
 
+    def add_rotation(self, variance):
+        """Estimate the rotation of the output frame against the reference
+        of :meth:`update_yaw`'s headings, with prior ``N(0, variance)``:
+        the pose's yaw is that heading plus the rotation, so the yaw's
+        uncertainty grows by ``variance`` and is shared with it."""
+        n = len(self.state)
+        self.state_cov[2, 2] += variance
+        cross = np.zeros((1, n))
+        cross[0, 2] = variance
+        self._append('rotation', np.zeros(1), [[variance]], cross)
+
+    @property
+    def rotation(self):
+        """``(rotation, variance)`` of :meth:`add_rotation`, or None."""
+        if 'rotation' not in self._blocks:
+            return None
+        r = self._blocks['rotation'][0]
+        return (normalize_angle(self.state[r]), float(self.state_cov[r, r]))
+
     def update_yaw(self, yaw, variance):
-        """Fuse an absolute yaw (an IMU's heading while GPS is active)."""
+        """Fuse an absolute yaw (an IMU's heading while GPS is active):
+        the pose's yaw, less the rotation after :meth:`add_rotation`."""
         jac = np.zeros((1, len(self.state)))
         jac[0, 2] = 1.0
-        innovation = normalize_angle(yaw - self.state[2])
+        predicted = self.state[2]
+        if 'rotation' in self._blocks:
+            r = self._blocks['rotation'][0]
+            jac[0, r] = -1.0
+            predicted = predicted - self.state[r]
+        innovation = normalize_angle(yaw - predicted)
         self._update(jac, np.array([innovation]),
                      [[max(float(variance), MIN_VARIANCE)]])
 

@@ -8,10 +8,14 @@ odometry message (without odometry, visual odometry; without either, the
 IMU), predicting with the driving sensor's increment and fusing the
 gyro's (and visual odometry's) change since its last update; with
 ``gps_used`` it steps as robot_pose_ekf does, at the oldest of the active
-sensors' newest stamps. It applies the sensor timeouts, restarts itself
+sensors' newest stamps, at each of them the sensors' stamps give (so the
+answer does not depend on when the node's timer fires), and can
+estimate the rotation between the GPS frame and the IMU's heading
+(``gps_frame_rotation``). It applies the sensor timeouts, restarts itself
 should its estimate stop being finite or ROS time move backwards, and
 gives its state as text through :mod:`rbx1_nav.pose_ekf.status`. No rospy.
 """
+import bisect
 import math
 
 import numpy as np
@@ -30,6 +34,9 @@ __all__ = ['GyroOdomFusion', 'GPS_GATE_SIGMAS']
 #: deviations (of the fix and the estimate together) from the prediction is
 #: dropped as a jump, not fused.
 GPS_GATE_SIGMAS = 10.0
+#: GPS mode: at most this many seconds of filter steps are caught up at
+#: once (after a stall, the first step spans the rest).
+MAX_CATCH_UP = 10.0
 
 
 class GyroOdomFusion(SensorInputs):
@@ -44,7 +51,11 @@ class GyroOdomFusion(SensorInputs):
     ``gps_used`` the filter works as robot_pose_ekf does
     (:meth:`_step_gps_mode`): it starts at a fix with the IMU's heading,
     takes the IMU's yaw as absolute while GPS is active and the fixes on
-    x, y only (z is ignored).
+    x, y only (z is ignored). With ``gps_frame_rotation`` (a prior standard
+    deviation in rad) the IMU's heading is not taken as true in the GPS
+    frame: the rotation between the two is a state, with prior ``N(0,
+    gps_frame_rotation**2)``, that the fixes refine as the robot moves
+    (each fix fused once with the Kalman gain, as with ``gps_kalman``).
 
     Call :meth:`add_odom` / :meth:`add_imu` / :meth:`add_vo` /
     :meth:`add_gps` per message (their checks and timeouts are
@@ -66,13 +77,19 @@ class GyroOdomFusion(SensorInputs):
 
     def __init__(self, odom_used=True, imu_used=True, sensor_timeout=1.0,
                  vo_used=False, gps_used=False, topics=None,
-                 gps_kalman=False):
+                 gps_kalman=False, gps_frame_rotation=None, freq=30.0):
         if not (odom_used or imu_used or vo_used):
             raise ValueError('at least one of odom_used, imu_used and vo_used '
                              'is needed (GPS alone gives no heading)')
         super(GyroOdomFusion, self).__init__(odom_used, imu_used, vo_used,
                                              gps_used, sensor_timeout, topics)
-        self.gps_kalman = bool(gps_kalman)
+        if gps_frame_rotation is not None and not gps_frame_rotation > 0.0:
+            raise ValueError('gps_frame_rotation (the prior standard '
+                             'deviation of the rotation) must be above 0, '
+                             'got %r' % (gps_frame_rotation,))
+        self.gps_frame_rotation = gps_frame_rotation
+        self.gps_kalman = bool(gps_kalman) or gps_frame_rotation is not None
+        self.freq = float(freq)
         self.restarts = 0
         self._clock = ClockWatch()
         self.stamp = None
@@ -90,11 +107,13 @@ class GyroOdomFusion(SensorInputs):
         self.forget_readings()
         self._ref = dict.fromkeys(SENSORS)
         self._time = None  # GPS mode: the filter's time (s)
+        self._tick = 0  # GPS mode: the next tick (s * freq) to read
         self._was_active = set()  # GPS mode: sensors active at that time
         self._gps_fused = None  # GPS mode: stamp of the last fix used
         self._last_predict = None
         self.ekf = None
         self.updated = False
+        self.new_estimates = []
         if new_clock:
             self.stamp = None
             self.inputs.new_clock()
@@ -128,13 +147,22 @@ class GyroOdomFusion(SensorInputs):
         return None
 
     def step(self, now):
-        """Run one filter step at time ``now``; return log events.
+        """Run the filter up to time ``now``; return log events.
 
         With odometry active the filter steps on each new odometry message
         (the other sensors' news is fused with it); without odometry on
         each new visual odometry message, and without either on each new
-        IMU message.
+        IMU message. With ``gps_used``, see :meth:`_step_gps_mode`.
+        Afterwards :attr:`new_estimates` lists the estimates made, oldest
+        first (``(stamp, pose, cov3)``; GPS mode can make several a call).
         """
+        self.new_estimates = []
+        events = self._step(now)
+        if self.updated and not self.new_estimates:
+            self.new_estimates.append(self.estimate)
+        return events
+
+    def _step(self, now):
         if self.started_at is None:
             self.started_at = now
         events, self._notes = self._notes + self._check_sensors(now), []
@@ -170,24 +198,27 @@ class GyroOdomFusion(SensorInputs):
 
         The filter starts when both the IMU and GPS are active, at the fix
         and the IMU's heading: its output frame is the GPS frame, with the
-        IMU's yaw taken as heading in it. Each step runs at the filter's
-        time, the oldest of the active sensors' newest stamps, where every
-        sensor is read by interpolation: odometry (and visual odometry)
-        increments since the last step, the IMU's yaw as absolute while GPS
-        is active (relative otherwise), and each new fix once on x, y (the
-        first after GPS starts or returns is skipped).
+        IMU's yaw taken as heading in it (with ``gps_frame_rotation``, as
+        the prior of the heading). Then it steps at the oldest of the
+        active sensors' newest stamps: at every such time since its last
+        step (:meth:`_step_times`), where every sensor is read by
+        interpolation: odometry (and visual
+        odometry) increments since the last step, the IMU's yaw as absolute
+        while GPS is active (relative otherwise), and each new fix on x, y
+        (the first after GPS starts or returns is skipped).
         """
         if self.ekf is None:
             return self._start_gps_mode(active)
         if not active:
             return []
         t = min([now] + [self._latest[n].stamp for n in active])
-        if t <= self._time:
-            return []
+        times = self._step_times(t, active)
         # With gps_kalman, step at each new fix's own stamp on the way.
-        times = sorted(set([t] + [r.stamp for r in self._history['gps']
-                                  if self.gps_kalman and 'gps' in active
-                                  and self._time < r.stamp < t]))
+        if self.gps_kalman and 'gps' in active:
+            times = sorted(set(times + [r.stamp for r in self._history['gps']
+                                        if self._time < r.stamp <= t]))
+        if not times:
+            return []
         events = []
         try:
             with np.errstate(over='ignore', invalid='ignore'):
@@ -195,11 +226,36 @@ class GyroOdomFusion(SensorInputs):
                     events += self._fuse_at(step_time, active)
                     self._time = step_time
                     self._was_active = set(active)
+                    self.new_estimates.append(
+                        (step_time, self.ekf.pose, self.ekf.cov.copy()))
         except (ValueError, np.linalg.LinAlgError) as err:
             return self._restarted(err)
-        if self.stamp is None or t > self.stamp:
-            self.stamp, self.updated = t, True
+        if self.stamp is None or times[-1] > self.stamp:
+            self.stamp, self.updated = times[-1], True
         return events
+
+    def _step_times(self, t, active):
+        """robot_pose_ekf's filter times after the last step, up to ``t``.
+
+        robot_pose_ekf steps, ``freq`` times a second, at the oldest of its
+        sensors' newest stamps. Here that is read off the stamps, not off
+        when the node's timer fires or messages arrive: at each multiple
+        of ``1/freq`` s up to ``t``, the oldest of the sensors' newest
+        stamps not after it (the newest :data:`MAX_CATCH_UP` s of them).
+        """
+        stamps = {n: [r.stamp for r in self._history[n]] for n in active}
+        times = set()
+        last = int(math.floor(t * self.freq))
+        for k in range(max(self._tick, last - int(MAX_CATCH_UP * self.freq)),
+                       last + 1):
+            tick = k / self.freq
+            newest = [own[bisect.bisect_right(own, tick) - 1]
+                      for own in stamps.values()
+                      if own and own[0] <= tick]
+            if len(newest) == len(stamps) and min(newest) > self._time:
+                times.add(min(newest))
+        self._tick = last + 1
+        return sorted(times)
 
     def _start_gps_mode(self, active):
         if 'imu' not in active or 'gps' not in active:
@@ -212,15 +268,20 @@ class GyroOdomFusion(SensorInputs):
         cov = np.zeros((3, 3))
         cov[0:2, 0:2], cov[2, 2] = fix.cov, imu.cov
         self.ekf = PlanarEkf(fix.value + (yaw,), cov, anchors=())
+        if self.gps_frame_rotation is not None:
+            self.ekf.add_rotation(self.gps_frame_rotation ** 2)
         self._time, self._gps_fused = t, t  # this fix is used up
         self._was_active = set(active)
         for name in active:
             self._ref[name] = self._value_at(name, t)
         if self.stamp is None or t > self.stamp:
             self.stamp, self.updated = t, True
-        return [('info', 'filter started at the GPS fix and the IMU heading '
+        return [('info', 'filter started at the GPS fix and the IMU heading%s '
                  '(gps_used: the output frame is the GPS frame): x=%.3f '
-                 'y=%.3f yaw=%.3f' % self.ekf.pose)]
+                 'y=%.3f yaw=%.3f' % ((
+                     ' give or take %.0f deg (gps_frame_rotation)' % math.degrees(
+                         self.gps_frame_rotation) if self.gps_frame_rotation
+                     else '',) + self.ekf.pose))]
 
     def _fuse_at(self, t, active):
         """Predict to filter time ``t`` and fuse every active sensor there."""
@@ -238,7 +299,8 @@ class GyroOdomFusion(SensorInputs):
             self.ekf.predict((0.0, 0.0, 0.0), no_motion_cov(dt))
         self._check_finite()
         imu, vo = self._latest['imu'], self._latest['vo']
-        if 'imu' in active and imu.measured and 'gps' in active:
+        if 'imu' in active and imu.measured and (
+                'gps' in active or self.ekf.rotation is not None):
             self.ekf.update_yaw(now['imu'], imu.cov)
         elif ('imu' in active and imu.measured and ref['imu'] is not None
               and self.ekf.has_anchor('imu')):

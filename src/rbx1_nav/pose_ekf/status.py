@@ -66,6 +66,11 @@ def status_text(fusion, now, topics=None):
                      'rad' % (fusion.stamp, x, y, yaw))
         lines.append('covariance (x, y, yaw): %s' % _matrix_text(
             fusion.ekf.cov))
+        if fusion.ekf.rotation is not None:
+            rotation, variance = fusion.ekf.rotation
+            lines.append('GPS frame rotation: the heading in it is the '
+                         "IMU's %+.2f deg (sd %.2f deg)" % (
+                             np.degrees(rotation), np.degrees(np.sqrt(variance))))
     lines.append('sensor_timeout %.3g s; filter restarts: %d'
                  % (fusion.sensor_timeout, fusion.restarts))
     return '\n'.join(lines)
