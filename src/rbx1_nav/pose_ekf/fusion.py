@@ -37,6 +37,9 @@ GPS_GATE_SIGMAS = 10.0
 #: GPS mode: at most this many seconds of filter steps are caught up at
 #: once (after a stall, the first step spans the rest).
 MAX_CATCH_UP = 10.0
+#: GPS mode: a stamp this fraction of a tick before it counts as on it
+#: (floating-point sums of 1/freq fall just short).
+TICK_EPSILON = 1e-3
 
 
 class GyroOdomFusion(SensorInputs):
@@ -213,12 +216,13 @@ class GyroOdomFusion(SensorInputs):
             return []
         t = min([now] + [self._latest[n].stamp for n in active])
         times = self._step_times(t, active)
-        # With gps_kalman, step at each new fix's own stamp on the way.
-        if self.gps_kalman and 'gps' in active:
-            times = sorted(set(times + [r.stamp for r in self._history['gps']
-                                        if self._time < r.stamp <= t]))
         if not times:
             return []
+        # With gps_kalman, step at each new fix's own stamp on the way
+        # (not past the last filter time: later ones are never older).
+        if self.gps_kalman and 'gps' in active:
+            times = sorted(set(times + [r.stamp for r in self._history['gps']
+                                        if self._time < r.stamp <= times[-1]]))
         events = []
         try:
             with np.errstate(over='ignore', invalid='ignore'):
@@ -245,10 +249,10 @@ class GyroOdomFusion(SensorInputs):
         """
         stamps = {n: [r.stamp for r in self._history[n]] for n in active}
         times = set()
-        last = int(math.floor(t * self.freq))
+        last = int(math.floor(t * self.freq + TICK_EPSILON))
         for k in range(max(self._tick, last - int(MAX_CATCH_UP * self.freq)),
                        last + 1):
-            tick = k / self.freq
+            tick = (k + TICK_EPSILON) / self.freq
             newest = [own[bisect.bisect_right(own, tick) - 1]
                       for own in stamps.values()
                       if own and own[0] <= tick]
@@ -293,12 +297,12 @@ class GyroOdomFusion(SensorInputs):
         if 'odom' in active and ref['odom'] is not None:
             increment = odom_increment(ref['odom'], now['odom'])
             self.ekf.predict(increment, increment_cov(
-                increment, self._latest['odom'], dt,
-                scale=dt / self._period('odom', dt)))
+                increment, self._reading_at('odom', t), dt,
+                scale=dt / self._period('odom', dt, t)))
         else:
             self.ekf.predict((0.0, 0.0, 0.0), no_motion_cov(dt))
         self._check_finite()
-        imu, vo = self._latest['imu'], self._latest['vo']
+        imu, vo = self._reading_at('imu', t), self._reading_at('vo', t)
         if 'imu' in active and imu.measured and (
                 'gps' in active or self.ekf.rotation is not None):
             self.ekf.update_yaw(now['imu'], imu.cov)
@@ -310,7 +314,7 @@ class GyroOdomFusion(SensorInputs):
                 'vo'):
             self.ekf.update_pose_increment(
                 odom_increment(ref['vo'], now['vo']),
-                vo.cov * (dt / self._period('vo', dt)), 'vo', vo.measured)
+                vo.cov * (dt / self._period('vo', dt, t)), 'vo', vo.measured)
         for name in ('imu', 'vo'):
             (self.ekf.set_anchor if name in active
              else self.ekf.drop_anchor)(name)
@@ -357,7 +361,7 @@ class GyroOdomFusion(SensorInputs):
         if self.gps_kalman:
             self.ekf.update_position(position, fix.cov, fix.measured)
         else:
-            odom = self._latest['odom']
+            odom = self._reading_at('odom', t)
             motion = (np.diag(odom.cov)[0:2] if 'odom' in self._was_active
                       else NO_ODOM_VARIANCE_RATE[0:2])
             self.ekf.blend_position(position, fix.cov,

@@ -34,6 +34,8 @@ UNMEASURED_VARIANCE = 1e5
 MAX_STAMP_SKEW = 10.0
 #: Readings kept per sensor, to read each at the filter's time (GPS mode).
 HISTORY = 100
+#: How many readings a sensor's mean period is taken over.
+PERIOD_READINGS = 20
 _AXES = {'odom': ('x', 'y', 'yaw'), 'vo': ('x', 'y', 'yaw'), 'imu': ('yaw',),
          'gps': ('x', 'y')}
 
@@ -272,13 +274,24 @@ class SensorInputs(object):
             value[-1] = normalize_angle(value[-1])
         return value[0] if name == 'imu' else tuple(value)
 
-    def _period(self, name, default):
-        """Mean interval of sensor ``name``'s recent readings (s)."""
+    def _reading_at(self, name, t):
+        """Sensor ``name``'s last reading stamped up to ``t`` (else its
+        oldest kept; None before any)."""
         history = self._history[name]
-        if len(history) < 2:
+        for reading in reversed(history):
+            if reading.stamp <= t:
+                return reading
+        return history[0] if history else None
+
+    def _period(self, name, default, until):
+        """Mean interval (s) of sensor ``name``'s last :data:`PERIOD_READINGS`
+        readings stamped up to ``until`` (not of those that happen to have
+        arrived since)."""
+        stamps = [r.stamp for r in self._history[name]
+                  if r.stamp <= until][-PERIOD_READINGS:]
+        if len(stamps) < 2:
             return max(default, 1e-6)
-        return max((history[-1].stamp - history[0].stamp)
-                   / (len(history) - 1), 1e-6)
+        return max((stamps[-1] - stamps[0]) / (len(stamps) - 1), 1e-6)
 
     # -- start-up checks and status -------------------------------------------
     def start(self, now):
