@@ -8,7 +8,6 @@ wall seconds of the kill. Time here is measured on the wall clock, since
 ROS time stands still once the clock is gone.
 """
 import os
-import subprocess
 import sys
 import time
 import unittest
@@ -17,7 +16,7 @@ import rospy
 import rostest
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
-from course_harness import (CourseProcess, RobotWatch,  # noqa: E402
+from course_harness import (CourseProcess, RobotWatch, kill_node,  # noqa: E402
                             is_zero, wait_under_way)
 
 
@@ -30,7 +29,7 @@ class ClockKilledTest(unittest.TestCase):
         course = CourseProcess()
         try:
             wait_under_way(self, watch, start, course)
-            subprocess.check_call(['rosnode', 'kill', '/sim_clock'])
+            kill_node('/sim_clock')
             killed = time.monotonic()
             status = course.wait(wall_limit=4 * exit_within)
             took = time.monotonic() - killed

@@ -12,7 +12,6 @@ that takes a fixed ~0.6 s of wall time, which at 5x would be 3 simulated
 seconds and says nothing about the node's reaction.
 """
 import os
-import subprocess
 import sys
 import unittest
 
@@ -20,7 +19,7 @@ import rospy
 import rostest
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
-from course_harness import (CourseProcess, RobotWatch,  # noqa: E402
+from course_harness import (CourseProcess, RobotWatch, kill_node,  # noqa: E402
                             RosoutWatch, is_zero, wait_under_way)
 
 
@@ -36,7 +35,7 @@ class SimKilledTest(unittest.TestCase):
                                        'link_grace': grace})
         try:
             wait_under_way(self, watch, start, course)
-            subprocess.check_call(['rosnode', 'kill', '/fake_turtlebot'])
+            kill_node('/fake_turtlebot')
             status = course.wait()
         finally:
             course.cleanup()

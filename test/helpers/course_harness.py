@@ -287,6 +287,16 @@ def wait_until(predicate, wall_limit=WALL_LIMIT):
     return False
 
 
+def kill_node(name):
+    """Shut node ``name`` down as ``rosnode kill`` does, from this process:
+    a new ``rosnode`` process takes about a second to start on a loaded
+    machine, in which a course at full speed can end."""
+    import rosnode
+    killed, failed = rosnode.kill_nodes([name])
+    if failed or not killed:
+        raise RuntimeError('could not kill %s' % name)
+
+
 def wait_under_way(test, watch, start, course, also=lambda: True, distance=0.3):
     """Wait until the robot is ``distance`` m from ``start`` (and ``also()``
     holds), with the course still running; assert both."""
