@@ -8,10 +8,9 @@ odometry message (without odometry, visual odometry; without either, the
 IMU), predicting with the driving sensor's increment and fusing the
 gyro's (and visual odometry's) change since its last update; with
 ``gps_used`` it steps as robot_pose_ekf does, at the oldest of the active
-sensors' newest stamps, at each of them the sensors' stamps give (so the
-answer does not depend on when the node's timer fires), and can
-estimate the rotation between the GPS frame and the IMU's heading
-(``gps_frame_rotation``). It applies the sensor timeouts, restarts itself
+sensors' newest stamps (read off the stamps, so the answer does not depend
+on when the node's timer fires), and can estimate the rotation between
+the GPS frame and the IMU's heading (``gps_frame_rotation``). It applies the sensor timeouts, restarts itself
 should its estimate stop being finite or ROS time move backwards, and
 gives its state as text through :mod:`rbx1_nav.pose_ekf.status`. No rospy.
 """
@@ -203,12 +202,12 @@ class GyroOdomFusion(SensorInputs):
         and the IMU's heading: its output frame is the GPS frame, with the
         IMU's yaw taken as heading in it (with ``gps_frame_rotation``, as
         the prior of the heading). Then it steps at the oldest of the
-        active sensors' newest stamps: at every such time since its last
+        active sensors' newest stamps, at every such time since its last
         step (:meth:`_step_times`), where every sensor is read by
-        interpolation: odometry (and visual
-        odometry) increments since the last step, the IMU's yaw as absolute
-        while GPS is active (relative otherwise), and each new fix on x, y
-        (the first after GPS starts or returns is skipped).
+        interpolation: odometry (and visual odometry) increments since the
+        last step, the IMU's yaw as absolute while GPS is active (relative
+        otherwise), and each new fix on x, y (the first after GPS starts or
+        returns is skipped).
         """
         if self.ekf is None:
             return self._start_gps_mode(active)
@@ -280,12 +279,13 @@ class GyroOdomFusion(SensorInputs):
             self._ref[name] = self._value_at(name, t)
         if self.stamp is None or t > self.stamp:
             self.stamp, self.updated = t, True
-        return [('info', 'filter started at the GPS fix and the IMU heading%s '
-                 '(gps_used: the output frame is the GPS frame): x=%.3f '
-                 'y=%.3f yaw=%.3f' % ((
-                     ' give or take %.0f deg (gps_frame_rotation)' % math.degrees(
-                         self.gps_frame_rotation) if self.gps_frame_rotation
-                     else '',) + self.ekf.pose))]
+        heading = 'the IMU heading'
+        if self.gps_frame_rotation is not None:
+            heading += ' give or take %.0f deg (gps_frame_rotation)' % (
+                math.degrees(self.gps_frame_rotation))
+        return [('info', 'filter started at the GPS fix and %s (gps_used: '
+                 'the output frame is the GPS frame): x=%.3f y=%.3f yaw=%.3f'
+                 % ((heading,) + self.ekf.pose))]
 
     def _fuse_at(self, t, active):
         """Predict to filter time ``t`` and fuse every active sensor there."""
