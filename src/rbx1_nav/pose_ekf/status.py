@@ -15,6 +15,8 @@ SENSOR_KINDS = {'odom': 'wheel odometry, relative pose',
                 'imu': 'gyro yaw, relative',
                 'vo': 'visual odometry, relative pose',
                 'gps': 'absolute x, y in the output frame'}
+#: What the IMU measures in GPS mode (gps_used).
+IMU_KIND_GPS = 'IMU yaw, absolute while GPS is active'
 
 
 def state_text(fusion):
@@ -51,8 +53,9 @@ def status_text(fusion, now, topics=None):
             lines.append('%s%s: not used' % (name, where))
             continue
         watch = fusion.watches[name]
-        line = '%s%s (%s): %s' % (name, where, SENSOR_KINDS[name],
-                                  watch.describe(now))
+        kind = (IMU_KIND_GPS if name == 'imu' and fusion.gps_used
+                else SENSOR_KINDS[name])
+        line = '%s%s (%s): %s' % (name, where, kind, watch.describe(now))
         if watch.last_seen is not None:
             line += ', last stamp %.3f, received %.2f s ago' % (
                 watch.last_stamp if watch.last_stamp is not None
