@@ -13,9 +13,12 @@ bag) from that time on, and asserts their poses at the last stamp they all
 published before the end time agree within 1 cm and 0.2 deg.
 """
 import math
+import subprocess
 import threading
+import time
 import unittest
 
+import rosgraph
 import rospy
 import rostest
 from geometry_msgs.msg import PoseWithCovarianceStamped
@@ -30,6 +33,26 @@ EXPECTED = (1.669542, -3.849846)  # m
 EXPECTED_QZ_QW = (-0.597720, 0.801634)
 EPS_TRANS, EPS_ROT = 0.1, 0.005
 AGREE_M, AGREE_DEG = 0.01, 0.2
+TOPICS = ('encoder', 'imu_data', 'gps')
+SUBSCRIBE_WALL_LIMIT = 60.0  # s for every node to subscribe
+
+
+def wait_for_subscribers(wanted):
+    """Wait (wall time) until every ``(topic, node)`` of ``wanted`` is
+    registered with the master as subscribed."""
+    master = rosgraph.Master(rospy.get_name())
+    deadline = time.monotonic() + SUBSCRIBE_WALL_LIMIT
+    while True:
+        _, subscribers, _ = master.getSystemState()
+        have = set((topic, node) for topic, nodes in subscribers
+                   for node in nodes)
+        missing = set(wanted) - have
+        if not missing:
+            return
+        if time.monotonic() > deadline:
+            raise AssertionError('not subscribed after %.0f s: %s' % (
+                SUBSCRIBE_WALL_LIMIT, sorted(missing)))
+        time.sleep(0.2)
 
 
 class Estimates(object):
@@ -83,6 +106,18 @@ class HuskyGpsTest(unittest.TestCase):
         cls.relays = [LateStart(ns, delay) for ns, delay in late.items()]
         cls.odom_begin = []
         rospy.Subscriber('/encoder', Odometry, cls.on_odom)
+        # The bag plays once every pose_ekf (and this node) listens: on a
+        # loaded machine a node can take seconds to start, and one that
+        # starts late into the bag gives another answer.
+        main = rospy.get_param('~ekf_node')
+        wait_for_subscribers(
+            [('/' + t, n) for t in TOPICS for n in (main, rospy.get_name())]
+            + [('/%s/%s' % (ns, t), '/%s%s' % (ns, main))
+               for ns in late for t in TOPICS])
+        cls.play = subprocess.Popen(
+            ['rosbag', 'play', '-q', '--clock', '--hz', '100', '-d', '2',
+             '-r', str(rospy.get_param('~rate')), rospy.get_param('~bag'),
+             '--topics'] + ['/' + t for t in TOPICS])
         # The deadline counts from the bag's first /clock: before it, ROS
         # time is 0 and a deadline of 60 s has passed at the bag's 1st tick.
         while rospy.get_rostime().is_zero() and not rospy.is_shutdown():
@@ -93,6 +128,11 @@ class HuskyGpsTest(unittest.TestCase):
             if rospy.get_rostime() > deadline:
                 break
             rospy.sleep(0.1)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.play.terminate()
+        cls.play.wait()
 
     @classmethod
     def on_odom(cls, msg):
