@@ -94,3 +94,20 @@ def test_gps_frame_rotation_follows_the_fixes_closer(messages):
         messages, run(messages))
     rotation, variance = fusion.ekf.rotation
     assert 2.0 * math.sqrt(variance) < abs(rotation)  # told apart from 0
+
+
+@pytest.mark.parametrize('options', [None, ROTATION])
+def test_a_node_starved_of_the_cpu_gives_the_same_answer(messages, options):
+    """Every message of 2 s (two sensor timeouts) read at once at its end,
+    as a node starved of the CPU reads its queues, its timer firing first:
+    no sensor counts as lost, and the estimates are the same."""
+    t0 = messages[0][0] + 10.0
+    starved = [(t0 + 2.0,) + m[1:] if t0 <= m[0] < t0 + 2.0 else m
+               for m in messages]
+    fusion = GyroOdomFusion(gps_used=True, **(options or {}))
+    estimates = husky.replay(fusion, starved)
+    assert 'dropped' not in fusion.state()
+    steady = {e[0]: e[1] for e in run(messages, options)}
+    assert [e[0] for e in estimates] == sorted(steady)
+    for stamp, pose, _ in estimates:
+        assert pose == pytest.approx(steady[stamp], abs=1e-9)

@@ -352,3 +352,27 @@ def test_gps_frame_rotation_finds_an_imu_heading_off_the_gps_frame(
 def test_gps_frame_rotation_needs_a_positive_prior():
     with pytest.raises(ValueError, match='gps_frame_rotation'):
         GyroOdomFusion(gps_used=True, gps_frame_rotation=0.0)
+
+
+@pytest.mark.parametrize('gps_frame_rotation', [None, math.radians(30.0)])
+def test_gps_mode_survives_every_sensor_lost_and_back(gps_frame_rotation):
+    """A driver that dies and comes back: every sensor silent (dropped
+    after 5 sensor timeouts of all-round silence), then back: the filter
+    re-bases them and goes on (it used to fail on the returning odometry)."""
+    robot = Robot(GyroOdomFusion(gps_used=True, sensor_timeout=1.5,
+                                 gps_frame_rotation=gps_frame_rotation),
+                  linear_scale=1.03)
+    robot.gyro_yaw = 0.0
+    robot.zigzag(legs=2)
+    robot.run(5.0, odom=False, imu=False, gps=False)
+    assert not any('timed out' in t for _, t in robot.events)
+    robot.run(3.0, odom=False, imu=False, gps=False)
+    assert 'dropped: odom, imu, gps' in robot.fusion.state()
+    robot.zigzag(legs=4)
+    robot.run(2.0, gps=True)
+    assert any('odom is back' in t for _, t in robot.events)
+    assert robot.fusion.state() == 'running'
+    # As test_gps_pulls_drifting_odometry_back: robot_pose_ekf's weight
+    # pulls gently, the Kalman gain (with gps_frame_rotation) harder.
+    assert robot.position_error() < (1.0 if gps_frame_rotation is None
+                                     else 0.35)

@@ -39,6 +39,9 @@ MAX_CATCH_UP = 10.0
 #: GPS mode: a stamp this fraction of a tick before it counts as on it
 #: (floating-point sums of 1/freq fall just short).
 TICK_EPSILON = 1e-3
+#: Every used sensor silent for this many sensor timeouts: all are dropped
+#: (before that, a sensor is dropped when it is silent while others talk).
+ALL_SILENT_TIMEOUTS = 5.0
 
 
 class GyroOdomFusion(SensorInputs):
@@ -335,7 +338,7 @@ class GyroOdomFusion(SensorInputs):
         ``gps_kalman``: each fix once, with the Kalman gain.
         """
         if first:
-            self._gps_fused = self._latest['gps'].stamp
+            self._gps_fused = self._reading_at('gps', t).stamp
             return []
         if self.gps_kalman:
             fix = next(r for r in reversed(self._history['gps'])
@@ -344,7 +347,7 @@ class GyroOdomFusion(SensorInputs):
                 return []
             self._gps_fused, position = fix.stamp, fix.value
         else:
-            fix, position = self._latest['gps'], self._value_at('gps', t)
+            fix, position = self._reading_at('gps', t), self._value_at('gps', t)
         if not fix.measured:
             return []
         distance = self.ekf.position_distance(position, fix.cov,
@@ -421,11 +424,24 @@ class GyroOdomFusion(SensorInputs):
                 and np.all(np.isfinite(self.ekf.state_cov))):
             raise ValueError('the estimate is no longer finite')
 
+    def _watch_time(self, now):
+        """The time the sensor timeouts are judged at: while any used
+        sensor still talks, when the last message came (a node starved of
+        the CPU steps before it reads the messages queued meanwhile: that
+        is no sensor's fault); ``now`` once all have been silent for
+        :data:`ALL_SILENT_TIMEOUTS` sensor timeouts (a driver that died)."""
+        seen = [self.watches[n].last_seen for n in self.used_sensors()
+                if self.watches[n].last_seen is not None]
+        if seen and now - max(seen) <= ALL_SILENT_TIMEOUTS * self.sensor_timeout:
+            return max(seen)
+        return now
+
     def _check_sensors(self, now):
         """Apply timeouts: a lost sensor is left out, a returning one re-based."""
         events = []
+        at = self._watch_time(now)
         for name in self.used_sensors():
-            change = self.watches[name].check(now)
+            change = self.watches[name].check(at)
             if change == 'lost':
                 self._ref[name] = None
                 if self.ekf is not None:
@@ -436,8 +452,10 @@ class GyroOdomFusion(SensorInputs):
             elif change in ('started', 'back'):
                 # A returning sensor starts a new reference: its jump while
                 # away (e.g. a restarted driver) is never fused. GPS is
-                # absolute: its frame origin stays valid.
-                self._ref[name] = (None if name == 'gps'
+                # absolute: its frame origin stays valid. In GPS mode the
+                # references are values at filter times: the next step
+                # takes a new one.
+                self._ref[name] = (None if name == 'gps' or self.gps_used
                                    else self._latest[name])
                 if name in ('imu', 'vo') and self.ekf is not None:
                     self.ekf.set_anchor(name)
