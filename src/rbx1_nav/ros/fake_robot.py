@@ -201,8 +201,30 @@ class RobotTopics:
 
     def publish(self, stamp):
         """After a step: the watchdog's log lines, then odom, its tf, joint
-        states, ground truth, the gyro and GPS."""
+        states, ground truth, the gyro and GPS. A message nobody subscribes
+        to is not even made (rospy would drop it)."""
         self.report_watchdog(stamp)
+        if self.odom_pub.get_num_connections() or (
+                self.tf_pub and self.tf_pub.get_num_connections()):
+            self.publish_odometry(stamp)
+        robot = self.robot
+        if self.joint_pub.get_num_connections():  # robot_state_publisher, a bag
+            joints = JointState(name=self.joints, position=robot.wheel_angles,
+                                velocity=robot.wheel_velocities)
+            joints.header.stamp = stamp
+            self.joint_pub.publish(joints)
+
+        if self.truth_pub.get_num_connections():
+            self.truth_pub.publish(fill_odometry(Odometry(), stamp, self.truth_frame,
+                                                 self.base_frame, robot.truth,
+                                                 robot.velocity))
+        if self.imu_pub and self.imu_pub.get_num_connections():
+            self.imu_pub.publish(self.imu_message(stamp))
+        if self.gps_pub:
+            self.publish_gps_fix(stamp)
+
+    def publish_odometry(self, stamp):
+        """odom and its tf."""
         robot = self.robot
         odom_pose = robot.odom
         odom = fill_odometry(Odometry(), stamp, self.odom_frame, self.base_frame,
@@ -219,21 +241,6 @@ class RobotTopics:
             tf.transform.translation.y = odom_pose.y
             tf.transform.rotation = odom.pose.pose.orientation
             self.tf_pub.publish(TFMessage([tf]))
-
-        if self.joint_pub.get_num_connections():  # robot_state_publisher, a bag
-            joints = JointState(name=self.joints, position=robot.wheel_angles,
-                                velocity=robot.wheel_velocities)
-            joints.header.stamp = stamp
-            self.joint_pub.publish(joints)
-
-        if self.truth_pub.get_num_connections():  # skip the work if unused
-            self.truth_pub.publish(fill_odometry(Odometry(), stamp, self.truth_frame,
-                                                 self.base_frame, robot.truth,
-                                                 robot.velocity))
-        if self.imu_pub and self.imu_pub.get_num_connections():
-            self.imu_pub.publish(self.imu_message(stamp))
-        if self.gps_pub:
-            self.publish_gps_fix(stamp)
 
     def publish_gps_fix(self, stamp):
         """Every 1/~gps_rate s: the true x, y plus white noise, on gps."""
