@@ -19,7 +19,6 @@ nothing; with nobody taking part, at real time.
 import time
 
 import rospy
-from rosgraph_msgs.msg import Clock
 
 from rbx1_nav.params import number, param
 from rbx1_nav.ros import lockstep
@@ -44,12 +43,12 @@ PARAMS = (
 
 def run_free(pacer):
     """/clock on the pacer's steps, nothing to wait for."""
-    pub = lockstep.synchronous_publisher('/clock', Clock)
+    clock = lockstep.ClockPublisher()
     while not rospy.is_shutdown():
         sim_ns, wait = pacer.advance(time.monotonic())
         if wait > 0:
             time.sleep(wait)
-        if not lockstep.publish(pub, Clock(clock=lockstep.from_ns(sim_ns))):
+        if not clock.publish(sim_ns):
             break
 
 

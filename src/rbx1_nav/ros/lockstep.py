@@ -14,6 +14,7 @@ import time
 import warnings
 
 import rospy
+import rospy.impl.simtime
 from rosgraph_msgs.msg import Clock
 
 from rbx1_nav.lockstep import (BACK, HANDLE, LOST_COMMANDS, REPEAT, RESEND,
@@ -23,9 +24,9 @@ from rbx1_nav.msg import LockstepGrant, LockstepReport
 
 # BACK and HANDLE: what Member.wait_grant returns, for its callers.
 __all__ = ['BACK', 'HANDLE', 'GRANT_TOPIC', 'REPORT_TOPIC', 'GRANT_LIMIT',
-           'STATE_LIMIT', 'FIRST_MEMBER', 'JoinError',
-           'Member', 'TimeOwner', 'enabled', 'from_ns', 'publish', 'sender',
-           'synchronous_publisher', 'to_ns']
+           'STATE_LIMIT', 'FIRST_MEMBER', 'ClockPublisher', 'JoinError',
+           'Member', 'TimeOwner', 'enabled', 'from_ns', 'keep_own_time',
+           'publish', 'sender', 'synchronous_publisher', 'to_ns']
 
 #: Global topics, like /clock: one owner of simulated time per master.
 GRANT_TOPIC = '/lockstep_grant'
@@ -87,6 +88,42 @@ def publish(pub, msg):
         return False
 
 
+def keep_own_time():
+    """Stop hearing /clock: from now on this node sets its ROS time itself
+    (rospy.rostime._set_rostime, what rospy's /clock callback calls).
+
+    Under /use_sim_time rospy subscribes every node to /clock. The node
+    that publishes it, and a simulator, granted every step /clock carries,
+    know each time before /clock tells them; hearing it again costs the
+    publisher a socket write and the node a thread woken, which takes the
+    GIL from the stepping thread, at every step. True if rospy's /clock
+    subscription was there and is gone (otherwise /clock still sets the
+    time, and a node setting it too does no harm)."""
+    sub = getattr(rospy.impl.simtime, '_clock_sub', None)
+    if sub is None:
+        return False
+    rospy.impl.simtime._clock_sub = None
+    sub.unregister()
+    return True
+
+
+class ClockPublisher(object):
+    """/clock, from the one node that publishes it: its own ROS time
+    follows what it publishes instead of coming back over /clock
+    (:func:`keep_own_time`)."""
+
+    def __init__(self):
+        self.pub = synchronous_publisher('/clock', Clock)
+        self.own_time = keep_own_time()
+
+    def publish(self, time_ns):
+        """Publish ``time_ns``; False once rospy has closed its topics."""
+        stamp = from_ns(time_ns)
+        if self.own_time:
+            rospy.rostime._set_rostime(stamp)
+        return publish(self.pub, Clock(clock=stamp))
+
+
 class TimeOwner(object):
     """sim_clock's side of lockstep: the one owner of simulated time.
 
@@ -101,7 +138,7 @@ class TimeOwner(object):
         self.session = random.getrandbits(63) or 1
         self.cond = threading.Condition()
         self.seen = set()  # members whose report connection was listed
-        self.clock_pub = synchronous_publisher('/clock', Clock)
+        self.clock = ClockPublisher()
         self.grant_pub = synchronous_publisher(GRANT_TOPIC, LockstepGrant)
         self.sub = rospy.Subscriber(REPORT_TOPIC, LockstepReport, self._on_report,
                                     queue_size=None, tcp_nodelay=True)
@@ -112,6 +149,7 @@ class TimeOwner(object):
                         dict(zip(msg.cmd_topics, msg.cmd_counts)), msg.leaving)
         with self.cond:
             change, warning = self.owner.report(report)
+            self.seen.add(name)  # its connection is listed: the report came over it
             self.cond.notify_all()
         if change:
             rospy.loginfo('%s: %s %s lockstep%s', self.name, name, change,
@@ -124,12 +162,15 @@ class TimeOwner(object):
         with self.cond:
             return self.owner.next_grant()
 
-    def _send(self, time_ns, names):
+    def _grant_message(self, time_ns, names):
         counts = self.owner.command_counts()
-        return publish(self.grant_pub, LockstepGrant(
+        return LockstepGrant(
             session=self.session, time=from_ns(time_ns), members=names,
             cmd_topics=[c[0] for c in counts], cmd_senders=[c[1] for c in counts],
-            cmd_counts=[c[2] for c in counts]))
+            cmd_counts=[c[2] for c in counts])
+
+    def _send(self, time_ns, names):
+        return publish(self.grant_pub, self._grant_message(time_ns, names))
 
     def drives(self):
         """True while a motion node takes part (rbx1_nav.lockstep.Owner)."""
@@ -146,7 +187,7 @@ class TimeOwner(object):
         with self.cond:
             while not (self.owner.members or rospy.is_shutdown()
                        or time.monotonic() > deadline):
-                publish(self.clock_pub, Clock(clock=from_ns(self.owner.now)))
+                self.clock.publish(self.owner.now)
                 self._send(self.owner.now, [])
                 self.cond.wait(0.05)
 
@@ -159,16 +200,22 @@ class TimeOwner(object):
         with self.cond:
             started = time.monotonic()
             names = self.owner.grant(time_ns, names, started)
-            # /clock for everyone else: after the grant, off its path.
-            if names and not self._send(time_ns, names):
-                return False
-            if not publish(self.clock_pub, Clock(clock=from_ns(time_ns))):
-                return False
+            grant = self._grant_message(time_ns, names) if names else None
+        # Sent without holding self.cond: a report that answers the grant
+        # before the send returns (this thread preempted by the member it
+        # woke) must not wait for it. /clock for everyone else: after the
+        # grant, off its path.
+        if grant and not publish(self.grant_pub, grant):
+            return False
+        if not self.clock.publish(time_ns):
+            return False
+        with self.cond:
             resend_at, warn_at = started + RESEND, started + SLOW_MEMBER
             while self.owner.owing():
                 if rospy.is_shutdown():
                     return False
-                self.cond.wait(0.05)
+                if self.cond.wait(0.05):
+                    continue  # a report came: the watchdogs wait for a quiet spell
                 now = time.monotonic()
                 self._drop_disconnected()
                 for name in self.owner.silent(now):
@@ -209,7 +256,9 @@ class Member(object):
     A simulator passes the resolved names of its cmd_vel topics in
     ``cmd_topics`` and counts each command that arrives with
     :meth:`command_from`; a motion node counts each one it sends with
-    :meth:`sent`.
+    :meth:`sent`. Once it has joined, a simulator takes its ROS time from
+    the grants, not /clock (:func:`keep_own_time`): it is named in every
+    grant, and /clock moves only with them.
     """
 
     def __init__(self, every_step=False, cmd_topics=()):
@@ -220,11 +269,17 @@ class Member(object):
         self.sent_counts = {}  # topic -> cmd_vel messages sent (motion node)
         self.settled = False   # a simulator's first grant handled
         self.cond = threading.Condition()
+        # Orders the reports (report, leave from a shutdown hook, the
+        # re-sends) apart from self.cond: the next grant can arrive before
+        # the report's send returns (this thread preempted by the owner it
+        # woke), and must not wait for it.
+        self.sending = threading.RLock()
         self.grant = None       # the newest grant naming this node
         self.members = set()    # the names in the newest grant seen
         self.joined = self.left = False
         self.rejoin = False     # a new owner is there: send the report now
         self.last = None        # the last report, to send again
+        self.own_time = False   # ROS time set from the grants (a simulator)
         self.pub = synchronous_publisher(REPORT_TOPIC, LockstepReport)
         self.sub = rospy.Subscriber(GRANT_TOPIC, LockstepGrant, self._on_grant,
                                     queue_size=None, tcp_nodelay=True)
@@ -261,6 +316,8 @@ class Member(object):
             rospy.rostime.wallsleep(0.01)
         with self.cond:
             self.grant = None
+        if self.every_step and not self.own_time:
+            self.own_time = keep_own_time()
         self.joined, self.left = True, False
         self.report(self.follower.handled or 0, 0)
 
@@ -291,11 +348,13 @@ class Member(object):
                               'already handled (%.3f s): refused', self.name,
                               time_ns * 1e-9, self.follower.handled * 1e-9)
             else:
+                if self.own_time:
+                    rospy.rostime._set_rostime(grant.time)
                 return action, time_ns, grant
         return None
 
     def _send_again(self):
-        with self.cond:
+        with self.sending:
             if self.joined and self.last is not None:
                 publish(self.pub, self.last)
 
@@ -334,7 +393,7 @@ class Member(object):
         """Handled ``handled_ns``; ``next_ns`` its next tick. After leave()
         (a shutdown hook, from another thread) none goes out, so a node on
         its way out cannot join again."""
-        with self.cond:  # not interleaved with leave() from another thread
+        with self.sending:  # not interleaved with leave() from another thread
             if self.left:
                 return
             self.follower.handled_step(handled_ns or None)
@@ -348,7 +407,7 @@ class Member(object):
     def leave(self):
         """Leave the lockstep (a no-op when not a member): the last report
         carries the commands sent, so the simulator still waits for them."""
-        with self.cond:
+        with self.sending:
             if not self.joined:
                 return
             self.report(self.follower.handled or 0, 0, leaving=True)
