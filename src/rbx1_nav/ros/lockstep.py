@@ -259,11 +259,20 @@ class Member(object):
     :meth:`sent`. Once it has joined, a simulator takes its ROS time from
     the grants, not /clock (:func:`keep_own_time`): it is named in every
     grant, and /clock moves only with them.
+
+    A motion node waits for each of its ticks with :meth:`wait_grant`. A
+    simulator passes ``step``: step(action, time ns) steps to a granted
+    time (action HANDLE or BACK, as wait_grant returns) and returns its
+    next tick (ns); :meth:`serve` then runs it.
     """
 
-    def __init__(self, every_step=False, cmd_topics=()):
+    def __init__(self, every_step=False, cmd_topics=(), step=None):
         self.name = rospy.get_name()
         self.every_step = every_step
+        self.step = step
+        self.busy = False       # a step being handled (serve)
+        self.heard = None       # wall time of the last grant or step handled
+        self.failure = None     # what step raised, for serve to raise
         self.follower = Follower()
         self.ledger = CommandLedger(cmd_topics)
         self.sent_counts = {}  # topic -> cmd_vel messages sent (motion node)
@@ -287,13 +296,63 @@ class Member(object):
     def _on_grant(self, msg):
         with self.cond:
             self.members = set(msg.members)
-            if self.name in self.members:
+            named = self.name in self.members
+            if named and self.step is None:
                 self.grant = msg
                 self.cond.notify_all()
+            elif named:
+                self.busy = True
             elif self.joined and msg.session != self.follower.session:
                 # A new owner (sim_clock restarted): join it at once.
                 self.rejoin = True
                 self.cond.notify_all()
+        if named and self.step is not None:
+            self._handle(msg)
+
+    def _handle(self, grant):
+        """A simulator's step, in the thread that received its grant (see
+        serve): the commands counted, the step, the report."""
+        try:
+            taken = self.failure is None and self._take(grant)
+            if taken:
+                action, time_ns, _ = taken
+                self.wait_commands(grant)
+                self.report(time_ns, self.step(action, time_ns))
+        except Exception as err:  # serve raises it in the node's own thread
+            with self.cond:
+                self.failure = err
+                self.cond.notify_all()
+        self.heard = time.monotonic()
+        self.busy = False  # no notify: a wake-up of serve's thread every step
+
+    def serve(self, limit, silent):
+        """A simulator's loop, until shutdown or an error of ``step`` (raised
+        here). Each step runs in the thread that receives the grants: a
+        hand-off to this one would cost every step a thread woken, which on
+        a virtual machine takes as long as a physics step. Meanwhile this
+        thread sends the last report again every RESEND wall seconds
+        without a grant (at once when a new owner appears) and calls
+        ``silent()`` every ``limit`` s without one."""
+        warn_at = time.monotonic() + limit
+        while not rospy.is_shutdown():
+            with self.cond:
+                self.cond.wait_for(
+                    lambda: self.rejoin or self.failure is not None, RESEND)
+                if self.failure is not None:
+                    raise self.failure
+                rejoin, self.rejoin = self.rejoin, False
+                now = time.monotonic()
+                quiet = not self.busy and now - self.heard > RESEND
+            if rejoin or quiet:
+                self._send_again()
+            if not quiet:
+                warn_at = now + limit
+            elif now > warn_at:
+                warn_at = now + limit
+                silent()
+        deadline = time.monotonic() + LOST_COMMANDS
+        while self.busy and time.monotonic() < deadline:  # a step under way ends
+            rospy.rostime.wallsleep(0.01)                  # before the node does
 
     def simulators(self):
         """Names in the newest grant (every simulator is in each)."""
@@ -316,6 +375,7 @@ class Member(object):
             rospy.rostime.wallsleep(0.01)
         with self.cond:
             self.grant = None
+            self.heard = time.monotonic()
         if self.every_step and not self.own_time:
             self.own_time = keep_own_time()
         self.joined, self.left = True, False
@@ -339,18 +399,26 @@ class Member(object):
                     return None
                 self._send_again()
                 continue
-            time_ns = to_ns(grant.time)
-            action = self.follower.grant(grant.session, time_ns)
-            if action == REPEAT:
-                self._send_again()
-            elif action == STALE:
-                rospy.logwarn('%s: lockstep grant at %.3f s is before the step '
-                              'already handled (%.3f s): refused', self.name,
-                              time_ns * 1e-9, self.follower.handled * 1e-9)
-            else:
-                if self.own_time:
-                    rospy.rostime._set_rostime(grant.time)
-                return action, time_ns, grant
+            taken = self._take(grant)
+            if taken:
+                return taken
+        return None
+
+    def _take(self, grant):
+        """(action, time ns, grant) of a grant to handle; None for one
+        already handled (the report goes again) or stale (refused)."""
+        time_ns = to_ns(grant.time)
+        action = self.follower.grant(grant.session, time_ns)
+        if action == REPEAT:
+            self._send_again()
+        elif action == STALE:
+            rospy.logwarn('%s: lockstep grant at %.3f s is before the step '
+                          'already handled (%.3f s): refused', self.name,
+                          time_ns * 1e-9, self.follower.handled * 1e-9)
+        else:
+            if self.own_time:
+                rospy.rostime._set_rostime(grant.time)
+            return action, time_ns, grant
         return None
 
     def _send_again(self):
