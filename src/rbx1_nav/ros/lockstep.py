@@ -138,6 +138,13 @@ class TimeOwner(object):
         self.session = random.getrandbits(63) or 1
         self.cond = threading.Condition()
         self.seen = set()  # members whose report connection was listed
+        self.plan = None      # sim_clock's pacing (run)
+        self.planned = None   # (time ns, names, due wall s): the next step
+        self.current = None   # (time ns, re-send at, warn at) of the step granted
+        # Taken under self.cond when a step starts, released once its grant
+        # and /clock are out: whichever thread sends them, a step's go out
+        # before the next one's.
+        self.sending = threading.Lock()
         self.clock = ClockPublisher()
         self.grant_pub = synchronous_publisher(GRANT_TOPIC, LockstepGrant)
         self.sub = rospy.Subscriber(REPORT_TOPIC, LockstepReport, self._on_report,
@@ -150,17 +157,14 @@ class TimeOwner(object):
         with self.cond:
             change, warning = self.owner.report(report)
             self.seen.add(name)  # its connection is listed: the report came over it
-            self.cond.notify_all()
+            start = self._next_step()
+        if start:
+            self._send_step(*start)
         if change:
             rospy.loginfo('%s: %s %s lockstep%s', self.name, name, change,
                           ' (simulator)' if msg.every_step and change == 'joined' else '')
         if warning:
             rospy.logwarn('%s: %s', self.name, warning)
-
-    def next_grant(self):
-        """(time ns, member names) of the next step; None without members."""
-        with self.cond:
-            return self.owner.next_grant()
 
     def _grant_message(self, time_ns, names):
         counts = self.owner.command_counts()
@@ -171,11 +175,6 @@ class TimeOwner(object):
 
     def _send(self, time_ns, names):
         return publish(self.grant_pub, self._grant_message(time_ns, names))
-
-    def drives(self):
-        """True while a motion node takes part (rbx1_nav.lockstep.Owner)."""
-        with self.cond:
-            return self.owner.drives()
 
     def wait_for_members(self, limit):
         """Wait up to ``limit`` wall seconds for a first member, publishing
@@ -191,47 +190,89 @@ class TimeOwner(object):
                 self._send(self.owner.now, [])
                 self.cond.wait(0.05)
 
-    def grant(self, time_ns, names):
-        """Grant the step ``time_ns`` to ``names`` (none: time just moves
-        on), publish it on /clock, and wait (wall time) until
-        each has reported it, re-sending it to the silent ones every RESEND
-        s and dropping members that died or stay silent for SILENT s.
-        False once the node shuts down."""
+    def run(self, plan):
+        """Own simulated time until shutdown.
+
+        ``plan(next_grant, drives)``, sim_clock's pacing, gives (time ns,
+        names, wall s to wait) of the next step from the Owner's
+        next_grant() and drives(). Each step is granted to its names and
+        published on /clock; the next is planned once all have reported.
+        The thread whose report completes a step starts the next one when
+        its time has come (a hand-off to this thread would cost every step
+        a thread woken); this thread starts the ones that wait, and
+        watches the members: it re-sends a grant to the silent ones every
+        RESEND s and drops members that died or stay silent for SILENT s.
+        """
         with self.cond:
-            started = time.monotonic()
-            names = self.owner.grant(time_ns, names, started)
-            grant = self._grant_message(time_ns, names) if names else None
-        # Sent without holding self.cond: a report that answers the grant
-        # before the send returns (this thread preempted by the member it
-        # woke) must not wait for it. /clock for everyone else: after the
-        # grant, off its path.
-        if grant and not publish(self.grant_pub, grant):
-            return False
-        if not self.clock.publish(time_ns):
-            return False
-        with self.cond:
-            resend_at, warn_at = started + RESEND, started + SLOW_MEMBER
-            while self.owner.owing():
-                if rospy.is_shutdown():
-                    return False
-                if self.cond.wait(0.05):
-                    continue  # a report came: the watchdogs wait for a quiet spell
-                now = time.monotonic()
-                self._drop_disconnected()
-                for name in self.owner.silent(now):
-                    self.owner.drop(name)
-                    rospy.logwarn('%s: %s has not handled the step at %.3f s for '
-                                  '%.0f s; going on without it until it reports '
-                                  'again', self.name, name, time_ns * 1e-9, SILENT)
-                owing = self.owner.owing()
-                if owing and now > resend_at:
-                    resend_at = now + RESEND
-                    self._send(time_ns, owing)
-                if owing and now > warn_at:
-                    warn_at = now + SLOW_MEMBER
-                    rospy.logwarn('%s: simulated time waits at %.3f s for %s',
-                                  self.name, time_ns * 1e-9, ', '.join(owing))
-        return True
+            self.plan = plan
+        while not rospy.is_shutdown():
+            with self.cond:
+                start = self._next_step()
+                if not start:
+                    due = self.planned[2] if self.planned else float('inf')
+                    wait = min(0.05, max(0.0, due - time.monotonic()))
+                    if not self.cond.wait(wait):
+                        self._watch()
+                    continue
+            self._send_step(*start)
+
+    def _next_step(self):
+        """Under self.cond, once nothing is owed: plan the next step, and
+        start it if its time has come; then return (time ns, grant or None)
+        for the caller to send with _send_step, holding self.sending."""
+        if self.plan is None or self.owner.owing():
+            return None
+        if self.planned is None:
+            time_ns, names, wait = self.plan(self.owner.next_grant(), self.owner.drives())
+            self.planned = (time_ns, names, time.monotonic() + wait)
+        time_ns, names, due = self.planned
+        now = time.monotonic()
+        if now < due:
+            self.cond.notify_all()  # run's thread starts it then
+            return None
+        self.planned = None
+        names = self.owner.grant(time_ns, names, now)
+        self.current = (time_ns, now + RESEND, now + SLOW_MEMBER)
+        grant = self._grant_message(time_ns, names) if names else None
+        self.sending.acquire()
+        return time_ns, grant
+
+    def _send_step(self, time_ns, grant):
+        """The grant of a step just started, then its /clock (for everyone
+        else: off the grant's path). Not under self.cond: a report that
+        answers the grant before the send returns (this thread preempted
+        by the member it woke) must not wait for it."""
+        try:
+            if grant is not None:
+                publish(self.grant_pub, grant)
+            self.clock.publish(time_ns)
+        finally:
+            self.sending.release()
+
+    def _watch(self):
+        """Under self.cond, every 50 ms (wall) while a step is owed: drop
+        the members that died or stay silent, re-send the grant to the
+        silent ones every RESEND s, and say who time waits for every
+        SLOW_MEMBER s."""
+        if not self.owner.owing():
+            return
+        time_ns, resend_at, warn_at = self.current
+        now = time.monotonic()
+        self._drop_disconnected()
+        for name in self.owner.silent(now):
+            self.owner.drop(name)
+            rospy.logwarn('%s: %s has not handled the step at %.3f s for '
+                          '%.0f s; going on without it until it reports '
+                          'again', self.name, name, time_ns * 1e-9, SILENT)
+        owing = self.owner.owing()
+        if owing and now > resend_at:
+            resend_at = now + RESEND
+            self._send(time_ns, owing)
+        if owing and now > warn_at:
+            warn_at = now + SLOW_MEMBER
+            rospy.logwarn('%s: simulated time waits at %.3f s for %s',
+                          self.name, time_ns * 1e-9, ', '.join(owing))
+        self.current = (time_ns, resend_at, warn_at)
 
     def _drop_disconnected(self):
         """Members whose report connection closed (the node died) leave."""
