@@ -19,7 +19,6 @@ nothing; with nobody taking part, at real time.
 import time
 
 import rospy
-from rosgraph_msgs.msg import Clock
 
 from rbx1_nav.params import number, param
 from rbx1_nav.ros import lockstep
@@ -44,12 +43,12 @@ PARAMS = (
 
 def run_free(pacer):
     """/clock on the pacer's steps, nothing to wait for."""
-    pub = lockstep.synchronous_publisher('/clock', Clock)
+    clock = lockstep.ClockPublisher()
     while not rospy.is_shutdown():
         sim_ns, wait = pacer.advance(time.monotonic())
         if wait > 0:
             time.sleep(wait)
-        if not lockstep.publish(pub, Clock(clock=lockstep.from_ns(sim_ns))):
+        if not clock.publish(sim_ns):
             break
 
 
@@ -63,16 +62,15 @@ def run_lockstep(pacer, speed, idle_speed):
     # Time starts with its members: the simulators (and the nodes of an
     # earlier sim_clock, started again from further back) join first.
     owner.wait_for_members(lockstep.FIRST_MEMBER)
-    while not rospy.is_shutdown():
-        grant = owner.next_grant()
+
+    def plan(grant, drives):
         target, names = grant if grant else (None, [])
         if speed is None:
-            pacer.set_speed(None if owner.drives() else idle_speed if grant else 1.0)
+            pacer.set_speed(None if drives else idle_speed if grant else 1.0)
         sim_ns, wait = pacer.advance(time.monotonic(), target)
-        if wait > 0:
-            time.sleep(wait)
-        if not owner.grant(sim_ns, names):
-            break
+        return sim_ns, names, wait
+
+    owner.run(plan)
 
 
 def main():

@@ -277,15 +277,25 @@ class DiffDriveFleet:
         self._cmd_time = np.full(size, -np.inf)  # when the executing command became due
         self._time = None
         self.timed_out = np.zeros(size, dtype=bool)  # True while the watchdog holds a base
-        self.truth = np.zeros((size, 3))
+        self._truth = np.zeros((size, 3))
         self.odom = np.zeros((size, 3))
         self._commanded = np.zeros((size, 2))  # (v, w) executed over the last step
-        self.velocity = np.zeros((size, 2))        # true (v, w) over the last step
+        self._velocity = np.zeros((size, 2))       # true (v, w) over the last step
         self.odom_velocity = np.zeros((size, 2))
         self.wheel_angles = np.zeros((size, 2))      # encoder readings, rad
         self.wheel_velocities = np.zeros((size, 2))  # rad/s over the last step
         self.gyro_rate = np.zeros(size)            # rad/s, measured
         self.gyro_yaw = np.zeros(size)             # rad, integral of the measured rate
+
+    @property
+    def truth(self):
+        """(N, 3): where the bases really are (x, y, yaw)."""
+        return self._truth
+
+    @property
+    def velocity(self):
+        """(N, 2): the (v, w) the bases really moved at over the last step."""
+        return self._velocity
 
     def robot(self, index):
         """Robot ``index`` read as scalars: a :class:`FleetRobot`."""
@@ -344,8 +354,8 @@ class DiffDriveFleet:
     def _move(self, v, w, dt):
         """The bases execute (v, w) exactly for ``dt`` s: truth, wheels,
         odometry and gyro follow."""
-        self.velocity = _columns(v, w)
-        self.truth = arc_steps(self.truth, v * dt, w * dt)
+        self._velocity = _columns(v, w)
+        self._truth = arc_steps(self._truth, v * dt, w * dt)
         self._update_wheels_and_odometry(v, w, dt)
         self._update_gyro(w, dt)
 

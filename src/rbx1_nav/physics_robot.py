@@ -37,7 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rbx1_nav.diff_drive import (CONFIG_LIMITS, DiffDriveConfig, DiffDriveFleet,
-                                 _columns, wrap_angles)
+                                 _columns)
 from rbx1_nav.params import text
 
 __all__ = ['PhysicsConfig', 'PhysicsFleet', 'FLOORS', 'Floor',
@@ -259,7 +259,17 @@ class PhysicsFleet(DiffDriveFleet):
         self._elapsed = 0.0  # s of ROS time stepped
         self._steps = 0      # MuJoCo steps taken since
         self._ticks = self._encoder_ticks()
-        self._read_truth()
+        self._truth = None  # read from the state when asked (_true_state)
+
+    @property
+    def truth(self):
+        """(N, 3): the bases' x, y, yaw, from MuJoCo's state."""
+        return self._true_state()[0]
+
+    @property
+    def velocity(self):
+        """(N, 2): the bases' (v, w) at the end of the last step."""
+        return self._true_state()[1]
 
     def _state(self):
         return (self.data.qpos.reshape(self.size, self.QPOS),
@@ -269,15 +279,19 @@ class PhysicsFleet(DiffDriveFleet):
         wheels = self._state()[0][:, 7:9]
         return np.floor(wheels * self.config.encoder_ticks / (2.0 * math.pi))
 
-    def _read_truth(self):
-        """truth and velocity from the bodies' state; returns the yaw rate."""
-        qpos, qvel = self._state()
-        w, x, y, z = qpos[:, 3], qpos[:, 4], qpos[:, 5], qpos[:, 6]
-        yaw = np.arctan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
-        self.truth = _columns(qpos[:, 0], qpos[:, 1], wrap_angles(yaw))
-        speed = qvel[:, 0] * np.cos(yaw) + qvel[:, 1] * np.sin(yaw)
-        self.velocity = _columns(speed, qvel[:, 5])
-        return qvel[:, 5]
+    def _true_state(self):
+        """(truth, velocity) from the bodies' state, computed once per step
+        and only when asked: most steps nobody does (ground_truth without
+        a subscriber)."""
+        if self._truth is None:
+            qpos, qvel = self._state()
+            w, x, y, z = qpos[:, 3], qpos[:, 4], qpos[:, 5], qpos[:, 6]
+            # In [-pi, pi] already: no wrap_angles.
+            yaw = np.arctan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+            self._truth = _columns(qpos[:, 0], qpos[:, 1], yaw)
+            speed = qvel[:, 0] * np.cos(yaw) + qvel[:, 1] * np.sin(yaw)
+            self._velocity = _columns(speed, qvel[:, 5])
+        return self._truth, self._velocity
 
     def _check_motors(self, model, speed=0.1, seconds=0.5):
         """ValueError unless one robot commanded ``speed`` m/s moves."""
@@ -308,8 +322,8 @@ class PhysicsFleet(DiffDriveFleet):
         if steps > 0:
             self._mujoco.mj_step(self.model, self.data, nstep=steps)
             self._steps += steps
-        yaw_rate = self._read_truth()
+            self._truth = None
         ticks = self._encoder_ticks()
         self._update_odometry((ticks - self._ticks) * (2.0 * math.pi / cfg.encoder_ticks), dt)
         self._ticks = ticks
-        self._update_gyro(yaw_rate, dt)
+        self._update_gyro(self._state()[1][:, 5], dt)  # the body's yaw rate

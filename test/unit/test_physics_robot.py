@@ -156,3 +156,26 @@ def test_robots_of_a_fleet_do_not_touch_and_match_a_robot_alone():
     assert fleet.truth[0] == pytest.approx([0, 0, 0], abs=1e-4)
     assert fleet.truth[1] == pytest.approx(alone.truth[0], abs=1e-6)
     assert fleet.odom[1] == pytest.approx(alone.odom[0], abs=1e-9)
+
+
+def test_the_truth_read_after_many_steps_is_the_last_steps():
+    """truth and velocity come from MuJoCo's state when read: read once at
+    the end, they are what reading them after every step gives."""
+    mujoco_or_skip()
+    watched, unwatched = PhysicsFleet(1), PhysicsFleet(1)
+    readings = []
+    t = 0.0
+    for fleet in (watched, unwatched):
+        fleet.step(0.0)
+    for i in range(100):
+        t += 0.02
+        for fleet in (watched, unwatched):
+            fleet.command(0, 0.2, 0.6 if i < 50 else -0.4, t)
+            fleet.step(t)
+        readings.append((watched.truth.copy(), watched.velocity.copy()))
+    assert readings[-1][0][0] == pytest.approx(unwatched.truth[0], abs=0.0)
+    assert readings[-1][1][0] == pytest.approx(unwatched.velocity[0], abs=0.0)
+    assert unwatched.odom[0] == pytest.approx(watched.odom[0], abs=0.0)
+    # ... and they moved with the robot: each step's reading is its own.
+    assert readings[0][0][0, 0] < readings[-1][0][0, 0]
+    assert readings[40][1][0, 1] > 0 > readings[-1][1][0, 1]

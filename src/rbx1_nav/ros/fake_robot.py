@@ -201,8 +201,30 @@ class RobotTopics:
 
     def publish(self, stamp):
         """After a step: the watchdog's log lines, then odom, its tf, joint
-        states, ground truth, the gyro and GPS."""
+        states, ground truth, the gyro and GPS. A message nobody subscribes
+        to is not even made (rospy would drop it)."""
         self.report_watchdog(stamp)
+        if self.odom_pub.get_num_connections() or (
+                self.tf_pub and self.tf_pub.get_num_connections()):
+            self.publish_odometry(stamp)
+        robot = self.robot
+        if self.joint_pub.get_num_connections():  # robot_state_publisher, a bag
+            joints = JointState(name=self.joints, position=robot.wheel_angles,
+                                velocity=robot.wheel_velocities)
+            joints.header.stamp = stamp
+            self.joint_pub.publish(joints)
+
+        if self.truth_pub.get_num_connections():
+            self.truth_pub.publish(fill_odometry(Odometry(), stamp, self.truth_frame,
+                                                 self.base_frame, robot.truth,
+                                                 robot.velocity))
+        if self.imu_pub and self.imu_pub.get_num_connections():
+            self.imu_pub.publish(self.imu_message(stamp))
+        if self.gps_pub:
+            self.publish_gps_fix(stamp)
+
+    def publish_odometry(self, stamp):
+        """odom and its tf."""
         robot = self.robot
         odom_pose = robot.odom
         odom = fill_odometry(Odometry(), stamp, self.odom_frame, self.base_frame,
@@ -219,21 +241,6 @@ class RobotTopics:
             tf.transform.translation.y = odom_pose.y
             tf.transform.rotation = odom.pose.pose.orientation
             self.tf_pub.publish(TFMessage([tf]))
-
-        if self.joint_pub.get_num_connections():  # robot_state_publisher, a bag
-            joints = JointState(name=self.joints, position=robot.wheel_angles,
-                                velocity=robot.wheel_velocities)
-            joints.header.stamp = stamp
-            self.joint_pub.publish(joints)
-
-        if self.truth_pub.get_num_connections():  # skip the work if unused
-            self.truth_pub.publish(fill_odometry(Odometry(), stamp, self.truth_frame,
-                                                 self.base_frame, robot.truth,
-                                                 robot.velocity))
-        if self.imu_pub and self.imu_pub.get_num_connections():
-            self.imu_pub.publish(self.imu_message(stamp))
-        if self.gps_pub:
-            self.publish_gps_fix(stamp)
 
     def publish_gps_fix(self, stamp):
         """Every 1/~gps_rate s: the true x, y plus white noise, on gps."""
@@ -339,12 +346,12 @@ def spin_lockstep(rate, step, robots, log_name):
     it steps through its own grid up to each on its own). At each it waits
     for the commands the nodes reported sending, steps to that time and
     publishes the state there (so a node steers by the pose of its very
-    tick), then reports.
+    tick), then reports (lockstep.Member.serve).
     A grant from before the last step (a new clock, from further back)
     starts the model again from there.
     """
-    period = int(round(1e9 / rate))
-    member = lockstep.Member(every_step=True,
+    grid = _Grid(int(round(1e9 / rate)), step, robots, log_name)
+    member = lockstep.Member(every_step=True, step=grid.step_to,
                              cmd_topics=[r.cmd_sub.resolved_name for r in robots])
     for robot in robots:
         robot.member = member
@@ -358,26 +365,35 @@ def spin_lockstep(rate, step, robots, log_name):
             break
         except lockstep.JoinError:
             rospy.logwarn(no_owner)
-    grid = None
-    while not rospy.is_shutdown():
-        granted = member.wait_grant(NO_OWNER_WARNING)
-        if granted is None:
-            if not rospy.is_shutdown():
-                rospy.logwarn(no_owner)
-            continue
-        action, now, grant = granted
+    member.serve(NO_OWNER_WARNING, lambda: rospy.logwarn(no_owner))
+
+
+class _Grid(object):
+    """A lockstep simulator's own grid of steps, every ``period`` ns."""
+
+    def __init__(self, period, step, robots, log_name):
+        self.period = period
+        self.step = step
+        self.robots = robots
+        self.log_name = log_name
+        self.next = None  # the grid's next step (ns); None: from the next grant
+        self.last = None  # the last step taken (ns)
+
+    def step_to(self, action, now):
+        """Step through the grid up to the granted ``now`` (ns) and to
+        ``now`` itself; return the next step wanted."""
         if action == lockstep.BACK:
-            _time_moved_back(log_name, rospy.ROSTimeMovedBackwardsException(
-                (member.follower.handled - now) * 1e-9))
-            grid = None
-        member.wait_commands(grant)
-        while grid is not None and grid < now:  # its own steps on the way
-            _step_at(grid, step, robots)
-            grid += period
-        _step_at(now, step, robots)
-        if grid is None or now >= grid:
-            grid = now + period
-        member.report(now, grid)
+            _time_moved_back(self.log_name, rospy.ROSTimeMovedBackwardsException(
+                (self.last - now) * 1e-9))
+            self.next = None
+        while self.next is not None and self.next < now:  # its own steps on the way
+            _step_at(self.next, self.step, self.robots)
+            self.next += self.period
+        _step_at(now, self.step, self.robots)
+        self.last = now
+        if self.next is None or now >= self.next:
+            self.next = now + self.period
+        return self.next
 
 
 def _step_at(time_ns, step, robots):
