@@ -369,8 +369,8 @@ class Member(object):
     def serve(self, limit, silent):
         """A simulator's loop, until shutdown or an error of ``step`` (raised
         here). Each step runs in the thread that receives the grants: a
-        hand-off to this one would cost every step a thread woken, which on
-        a virtual machine takes as long as a physics step. Meanwhile this
+        hand-off to this one would cost every step a thread woken (tens of
+        microseconds on a virtual machine). Meanwhile this
         thread sends the last report again every RESEND wall seconds
         without a grant (at once when a new owner appears) and calls
         ``silent()`` every ``limit`` s without one."""
