@@ -114,6 +114,7 @@ class HuskyGpsTest(unittest.TestCase):
             [('/' + t, n) for t in TOPICS for n in (main, rospy.get_name())]
             + [('/%s/%s' % (ns, t), '/%s%s' % (ns, main))
                for ns in late for t in TOPICS])
+        # (nothing started yet: no tearDownClass needed should that fail)
         cls.play = subprocess.Popen(
             ['rosbag', 'play', '-q', '--clock', '--hz', '100', '-d', '2',
              '-r', str(rospy.get_param('~rate')), rospy.get_param('~bag'),
