@@ -11,6 +11,7 @@ test starts at the first pose stamped at its start and ends at the first
 pose stamped at its end, never at whatever arrived last.
 """
 import threading
+import time
 
 import rospy
 from nav_msgs.msg import Odometry
@@ -78,12 +79,19 @@ class GroundTruth(object):
             rospy.core.is_shutdown_requested()
 
     def wait(self, timeout):
-        """The newest pose, waiting up to ``timeout`` s (ROS time) for one."""
+        """The newest pose, waiting for one up to ``timeout`` s of ROS time
+        and at least as long of wall time (a subscription connects in wall
+        time, however fast simulated time runs: CI saw 5 s of simulated
+        time pass in 0.5 s)."""
         deadline = rospy.Time.now() + rospy.Duration(timeout)
-        poll = rospy.Rate(20)
-        while self.latest() is None and rospy.Time.now() < deadline:
-            poll.sleep()
-        return self.latest()
+        wall_deadline = time.monotonic() + timeout
+        with self.lock:
+            while self.pose is None and not rospy.core.is_shutdown_requested():
+                if (time.monotonic() >= wall_deadline
+                        and rospy.Time.now() >= deadline):
+                    break
+                self.lock.wait(0.05)
+            return self.pose
 
     def start(self, stamp):
         """Begin a PoseTrack of every pose stamped from ``stamp`` on."""
