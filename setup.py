@@ -3,6 +3,7 @@ from setuptools import setup
 from catkin_pkg.python_setup import generate_distutils_setup
 
 setup(**generate_distutils_setup(
-    packages=['rbx1_nav', 'rbx1_nav.pose_ekf', 'rbx1_nav.ros'],
+    packages=['rbx1_nav', 'rbx1_nav.common', 'rbx1_nav.motion', 'rbx1_nav.sim',
+              'rbx1_nav.sim_time', 'rbx1_nav.calibration', 'rbx1_nav.estimation'],
     package_dir={'': 'src'},
 ))

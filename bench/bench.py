@@ -228,8 +228,8 @@ def model_only(physics, seconds=60.0, rate=50.0):
     """Simulated seconds per wall second of the model alone, no ROS: one
     robot stepped at ``rate`` Hz with a command every step."""
     sys.path.insert(0, os.path.join(os.path.dirname(HERE), 'src'))
-    from rbx1_nav.diff_drive import DiffDriveFleet
-    from rbx1_nav.physics_robot import PhysicsFleet
+    from rbx1_nav.sim.diff_drive import DiffDriveFleet
+    from rbx1_nav.sim.physics import PhysicsFleet
     fleet = PhysicsFleet(1) if physics else DiffDriveFleet(1)
     now = 0.0
     fleet.step(now)

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """pose_ekf's GPS modes on robot_pose_ekf's own Husky bag, without ROS
 running: the bag's /encoder, /imu_data and /gps fed to
-rbx1_nav.pose_ekf.GyroOdomFusion as pose_ekf.py feeds them (ROS time is
+rbx1_nav.estimation.GyroOdomFusion as pose_ekf.py feeds them (ROS time is
 each message's record time; the filter steps ~freq times a second).
 
 Prints each mode's last pose before robot_pose_ekf's test time beside what
@@ -19,9 +19,9 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(os.path.dirname(HERE), 'src'))
-from rbx1_nav.input_check import RejectedInput  # noqa: E402
-from rbx1_nav.pose_ekf import (GyroOdomFusion, pose_covariance_3x3,  # noqa: E402
-                               position_covariance_2x2)
+from rbx1_nav.estimation.input_check import RejectedInput  # noqa: E402
+from rbx1_nav.estimation.ekf import pose_covariance_3x3, position_covariance_2x2  # noqa: E402
+from rbx1_nav.estimation.fusion import GyroOdomFusion  # noqa: E402
 from rbx1_nav.transform_utils import quat_to_angle  # noqa: E402
 
 BAG = os.path.join(os.path.dirname(HERE), 'test', 'data', 'gps_data.bag')

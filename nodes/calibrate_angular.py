@@ -14,9 +14,9 @@ The first six parameters below are the reconfigure fields
 (rbx1_nav.cfg.CalibrateAngularConfig): dynparam sets them while the node
 runs; the rest are read at start-up.
 """
-from rbx1_nav.calibration import ANGULAR
+from rbx1_nav.calibration.scale import ANGULAR
 from rbx1_nav.cfg import CalibrateAngularConfig
-from rbx1_nav.ros.calibration import node_params, run
+from rbx1_nav.calibration.scale_ros import node_params, run
 
 PARAMS = node_params(CalibrateAngularConfig)  # for the README check; run() reads them
 

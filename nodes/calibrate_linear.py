@@ -13,9 +13,9 @@ The first six parameters below are the reconfigure fields
 (rbx1_nav.cfg.CalibrateLinearConfig): dynparam sets them while the node
 runs; the rest are read at start-up.
 """
-from rbx1_nav.calibration import LINEAR
+from rbx1_nav.calibration.scale import LINEAR
 from rbx1_nav.cfg import CalibrateLinearConfig
-from rbx1_nav.ros.calibration import node_params, run
+from rbx1_nav.calibration.scale_ros import node_params, run
 
 PARAMS = node_params(CalibrateLinearConfig)  # for the README check; run() reads them
 

@@ -11,7 +11,7 @@ even after a successful course. As a node's launch-prefix:
 A node that fails (non-zero status) still ends a launch with the red block
 naming its exit code. Under rostest, or with other wrapped nodes of the
 launch still running (a fleet's courses), the wrapper exits with the
-node's status and leaves the launch alone. See rbx1_nav.launch_end.
+node's status and leaves the launch alone. See rbx1_nav.common.launch_end.
 """
 import os
 import signal
@@ -19,7 +19,7 @@ import subprocess
 import sys
 import time
 
-from rbx1_nav import launch_end
+from rbx1_nav.common import launch_end
 
 
 def main(argv):

@@ -3,8 +3,8 @@
 
 Each robot named in ~robots is what fake_turtlebot.py is in that namespace,
 with the same parameters for every robot; the model steps all of them in
-numpy arrays (rbx1_nav.diff_drive.DiffDriveFleet), or with ~physics in one
-MuJoCo model (rbx1_nav.physics_robot.PhysicsFleet), so N robots cost one
+numpy arrays (rbx1_nav.sim.diff_drive.DiffDriveFleet), or with ~physics in one
+MuJoCo model (rbx1_nav.sim.physics.PhysicsFleet), so N robots cost one
 process. `roslaunch rbx1_nav fleet.launch n:=10` starts one with robot1 ..
 robot10.
 
@@ -19,7 +19,7 @@ Publishes:   R/odom, R/ground_truth (nav_msgs/Odometry), R/joint_states,
 Frames:      R/ before ~odom_frame, ~base_frame and ~imu_frame (robot1/odom,
              robot1/base_footprint); ~ground_truth_frame (world) is shared.
 Parameters:  ~robots and every parameter of fake_turtlebot.py
-             (rbx1_nav.fake_robot; --help lists them). A bad value is logged
+             (rbx1_nav.sim.params; --help lists them). A bad value is logged
              and the node exits with status 1. Noise comes from one
              generator for the fleet (seeded by ~seed), each robot's GPS
              from its own.
@@ -28,12 +28,12 @@ import threading
 
 import rospy
 
-from rbx1_nav import fake_robot
-from rbx1_nav.ros.fake_robot import RobotTopics, make_fleet, spin_simulator
-from rbx1_nav.ros.node import start_node, until_shutdown
+from rbx1_nav.sim import params as sim_params
+from rbx1_nav.sim.robot_ros import RobotTopics, make_fleet, spin_simulator
+from rbx1_nav.common.node_ros import start_node, until_shutdown
 
 NAME = 'fake_fleet'
-PARAMS = (fake_robot.ROBOTS,) + fake_robot.PARAMS
+PARAMS = (sim_params.ROBOTS,) + sim_params.PARAMS
 
 
 class FakeFleet:
@@ -55,7 +55,7 @@ class FakeFleet:
     def spin(self):
         """Step every robot on a fixed grid of ROS times (under lockstep,
         also at their motion nodes' ticks): see
-        rbx1_nav.ros.fake_robot.spin_simulator."""
+        rbx1_nav.sim.robot_ros.spin_simulator."""
         spin_simulator(self.rate, self.step, self.robots, NAME)
 
     def step(self, stamp):

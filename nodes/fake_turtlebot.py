@@ -2,8 +2,8 @@
 """fake_turtlebot: a kinematic TurtleBot base for simulation and tests.
 
 A drop-in for the ArbotiX fake robot of ROS By Example. The motion model is
-rbx1_nav.diff_drive (kinematic: the base moves exactly as commanded) or,
-with ~physics, rbx1_nav.physics_robot (real dynamics on MuJoCo: inertia,
+rbx1_nav.sim.diff_drive (kinematic: the base moves exactly as commanded) or,
+with ~physics, rbx1_nav.sim.physics (real dynamics on MuJoCo: inertia,
 motor torque and deadband, wheel slip, encoder ticks, a floor); this node
 only reads parameters and wires the model to ROS.
 
@@ -16,22 +16,22 @@ Publishes:   odom (nav_msgs/Odometry), tf odom_frame -> base_frame, static
              gps (nav_msgs/Odometry, if ~publish_gps: the true x, y in
              ~ground_truth_frame plus white noise of ~gps_noise m (1 sigma),
              at ~gps_rate Hz, with variance ~gps_noise^2; seeded by ~seed)
-Parameters:  rbx1_nav.fake_robot.PARAMS (--help lists them), every field
-             of rbx1_nav.diff_drive.DiffDriveConfig among them (bounds in
+Parameters:  rbx1_nav.sim.params.PARAMS (--help lists them), every field
+             of rbx1_nav.sim.diff_drive.DiffDriveConfig among them (bounds in
              its CONFIG_LIMITS) and, with ~physics, of
-             rbx1_nav.physics_robot.PhysicsConfig. A bad value (or ~physics
+             rbx1_nav.sim.physics.PhysicsConfig. A bad value (or ~physics
              without MuJoCo installed) is logged and the node exits with
              status 1.
-The topics are rbx1_nav.ros.fake_robot.RobotTopics, shared with
+The topics are rbx1_nav.sim.robot_ros.RobotTopics, shared with
 fake_fleet.py (N robots in one process).
 """
 import threading
 
 import rospy
 
-from rbx1_nav.fake_robot import PARAMS
-from rbx1_nav.ros.fake_robot import RobotTopics, make_fleet, spin_simulator
-from rbx1_nav.ros.node import start_node, until_shutdown
+from rbx1_nav.sim.params import PARAMS
+from rbx1_nav.sim.robot_ros import RobotTopics, make_fleet, spin_simulator
+from rbx1_nav.common.node_ros import start_node, until_shutdown
 
 
 class FakeTurtleBot:
@@ -47,7 +47,7 @@ class FakeTurtleBot:
     def spin(self):
         """Step the model on a fixed grid of ROS times (under lockstep, also
         at its motion nodes' ticks) and publish each step: see
-        rbx1_nav.ros.fake_robot.spin_simulator."""
+        rbx1_nav.sim.robot_ros.spin_simulator."""
         spin_simulator(self.rate, self.step, [self.topics], 'fake_turtlebot')
 
     def step(self, stamp):

@@ -12,16 +12,16 @@ Publishes:  cmd_vel (geometry_msgs/Twist), relative.
 Subscribes: odom (nav_msgs/Odometry), only its velocity: the summary counts the
             spells the robot stood still while commanded to move.
 Parameters: the book's values by default; the last seven are the
-runner's (rbx1_nav.ros.runner), shared by every motion node.
+runner's (rbx1_nav.motion.runner_ros), shared by every motion node.
 Exit status: 0 after a completed square, 1 otherwise; the robot is always
 sent a stop.
 """
 import math
 
-from rbx1_nav.motion import (PRECISE_PARAMS, Course, approach, legs_course,
+from rbx1_nav.motion.course import (PRECISE_PARAMS, Course, approach, legs_course,
                              legs_params)
-from rbx1_nav.ros.node import exit_node
-from rbx1_nav.ros.runner import common_params, run_course_node
+from rbx1_nav.common.node_ros import exit_node
+from rbx1_nav.motion.runner_ros import common_params, run_course_node
 
 NAME = 'nav_square'
 SIDES = 4

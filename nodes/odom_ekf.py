@@ -5,7 +5,7 @@ Subscribes ``input`` (geometry_msgs/PoseWithCovarianceStamped) and publishes
 ``output`` (nav_msgs/Odometry); ``launch/odom_ekf.launch`` remaps them to
 ``/robot_pose_ekf/odom_combined`` (where robot_pose_ekf and pose_ekf.py
 publish) and ``/odom_ekf`` so RViz can show the gyro + wheel estimate next
-to the raw ``/odom``. The mapping lives in ``rbx1_nav.odom_ekf``. Should
+to the raw ``/odom``. The mapping lives in ``rbx1_nav.estimation.odom_ekf``. Should
 nothing come on the input within 5 s (wall time, SILENT) of start-up, one
 warning names the topic and the topics that carry
 PoseWithCovarianceStamped.
@@ -17,7 +17,7 @@ output's stamps only move forward. Should ROS time move backwards (a bag
 looping, a simulator restarted) the node says so and takes the poses of the
 new clock. Should the ROS master restart, the node says so within a few
 seconds and registers its topics with the new master, so RViz and new
-nodes find them again (rbx1_nav.ros.master); its connections go on.
+nodes find them again (rbx1_nav.common.master_ros); its connections go on.
 """
 import threading
 
@@ -25,11 +25,12 @@ import rospy
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry
 
-from rbx1_nav.input_check import RejectedInput, time_moved_back_text
-from rbx1_nav.odom_ekf import SENSOR, PoseToOdometry, silent_input_text
-from rbx1_nav.params import POSITIVE, flag, frame, number, param
-from rbx1_nav.ros.master import MasterWatch, reregister_node, topic_graph
-from rbx1_nav.ros.node import start_node
+from rbx1_nav.estimation.input_check import RejectedInput
+from rbx1_nav.common.ros_time import time_moved_back_text
+from rbx1_nav.estimation.odom_ekf import SENSOR, PoseToOdometry, silent_input_text
+from rbx1_nav.common.params import POSITIVE, flag, frame, number, param
+from rbx1_nav.common.master_ros import MasterWatch, reregister_node, topic_graph
+from rbx1_nav.common.node_ros import start_node
 
 SILENT = 5.0  # wall s without input before the warning
 POSE_TYPE = 'geometry_msgs/PoseWithCovarianceStamped'

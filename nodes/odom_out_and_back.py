@@ -3,22 +3,22 @@
 
 The ROS By Example course: [drive ~goal_distance, turn ~goal_angle] x ~legs,
 closed loop on the odom -> base transform. The course lives in
-rbx1_nav.out_and_back, the ROS side in rbx1_nav.ros.runner.
+rbx1_nav.motion.book, the ROS side in rbx1_nav.motion.runner_ros.
 
 Publishes:  cmd_vel (geometry_msgs/Twist), relative, so a namespace works.
 Subscribes: odom (nav_msgs/Odometry), only its velocity: the summary counts the
             spells the robot stood still while commanded to move.
 Parameters: the book's values by default; the last seven are the
-runner's (rbx1_nav.ros.runner), shared by every motion node.
+runner's (rbx1_nav.motion.runner_ros), shared by every motion node.
 Exit status: 0 after a completed course, 1 on bad parameters, missing or
 stale tf, an error or an interruption. The robot is always sent a stop.
 """
 import math
 
-from rbx1_nav.motion import PRECISE_PARAMS, legs_params
-from rbx1_nav.out_and_back import CourseConfig, OutAndBack
-from rbx1_nav.ros.node import exit_node
-from rbx1_nav.ros.runner import common_params, run_course_node
+from rbx1_nav.motion.course import PRECISE_PARAMS, legs_params
+from rbx1_nav.motion.book import CourseConfig, OutAndBack
+from rbx1_nav.common.node_ros import exit_node
+from rbx1_nav.motion.runner_ros import common_params, run_course_node
 
 NAME = 'odom_out_and_back'
 PARAMS = legs_params(linear_speed=0.15, goal_distance=1.0, angular_speed=0.5,

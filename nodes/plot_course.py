@@ -20,7 +20,7 @@ import sys
 
 import rosbag
 
-from rbx1_nav.course_plot import (Track, describe_error,
+from rbx1_nav.motion.course_plot import (Track, describe_error,
                                   describe_final_offset, plot_course)
 from rbx1_nav.transform_utils import quat_to_angle
 

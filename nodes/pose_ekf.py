@@ -8,7 +8,7 @@ used; publishes ``~odom_combined`` (geometry_msgs/PoseWithCovarianceStamped)
 and, unless ``~publish_tf`` is false, the tf ``output_frame ->
 base_footprint_frame``. Service ``~get_status`` (std_srvs/Trigger): the
 filter's state, each sensor's, and the covariance, in ``message``. The
-filter lives in ``rbx1_nav.pose_ekf``; this node converts messages, keeps
+filter lives in ``rbx1_nav.estimation``; this node converts messages, keeps
 time and watches for problems:
 
 * a used sensor with no message ``sensor_timeout`` after start-up gets one
@@ -34,14 +34,14 @@ the GPS frame: the rotation between the two is estimated from the fixes
 as the robot moves. A bad
 parameter is logged and the node exits with status 1. Unstamped,
 out-of-order, repeated, NaN or absurd sensor messages and negative
-variances are dropped (rbx1_nav.input_check), with one warning per sensor
+variances are dropped (rbx1_nav.estimation.input_check), with one warning per sensor
 and kind every 10 s that counts them, so the output's stamps only move
 forward. Should the estimate ever stop being finite the filter restarts
 instead of publishing it; should ROS time move backwards (a bag looping,
 a simulator restarted) it says so and restarts from the next readings.
 Should the ROS master restart, the node says so within a few seconds and
 registers its topics, tf and service with the new master, so RViz and new
-nodes find them again (rbx1_nav.ros.master); its connections go on.
+nodes find them again (rbx1_nav.common.master_ros); its connections go on.
 """
 import math
 import threading
@@ -55,15 +55,14 @@ from sensor_msgs.msg import Imu
 from std_srvs.srv import Trigger, TriggerResponse
 from tf2_msgs.msg import TFMessage
 
-from rbx1_nav import params
-from rbx1_nav.input_check import (BAD_ORIENTATION, RejectedInput,
-                                  time_moved_back_text)
-from rbx1_nav.pose_ekf import (GyroOdomFusion, OtherPublisherWatch,
-                               covariance_6x6, is_finite_estimate,
-                               other_publisher_text, pose_covariance_3x3,
-                               position_covariance_2x2, silent_sensor_text)
-from rbx1_nav.ros.master import MasterWatch, reregister_node
-from rbx1_nav.ros.node import start_node, until_shutdown
+from rbx1_nav.common import params
+from rbx1_nav.estimation.input_check import BAD_ORIENTATION, RejectedInput
+from rbx1_nav.common.ros_time import time_moved_back_text
+from rbx1_nav.estimation.ekf import covariance_6x6, is_finite_estimate, pose_covariance_3x3, position_covariance_2x2
+from rbx1_nav.estimation.fusion import GyroOdomFusion
+from rbx1_nav.estimation.status import OtherPublisherWatch, other_publisher_text, silent_sensor_text
+from rbx1_nav.common.master_ros import MasterWatch, reregister_node
+from rbx1_nav.common.node_ros import start_node, until_shutdown
 from rbx1_nav.transform_utils import quat_to_angle, yaw_to_quaternion
 
 WARN_PERIOD = 5.0  # s between repeats of the same warning

@@ -4,10 +4,10 @@
 One clock serves every robot on the master, so it publishes the global
 /clock topic. This is the only node that reads the wall clock; every other
 node follows the simulated time it publishes, so tests run the same at 1x
-and at 20x. The pacing itself is rbx1_nav.sim_clock.ClockPacer.
+and at 20x. The pacing itself is rbx1_nav.sim_time.pacer.ClockPacer.
 
 With the global parameter /lockstep true (sim_clock.launch lockstep:=true),
-this node is the one owner of simulated time (rbx1_nav.lockstep): it
+this node is the one owner of simulated time (rbx1_nav.sim_time.lockstep): it
 grants each step to the simulators and the motion nodes taking part and
 waits until each has handled it, jumping from one member's tick to the
 next; a course then ends the same at any speed and under any load.
@@ -20,11 +20,11 @@ import time
 
 import rospy
 
-from rbx1_nav.params import number, param
-from rbx1_nav.ros import lockstep
-from rbx1_nav.ros.node import start_node
-from rbx1_nav.sim_clock import (MAX_SPEED, MAX_START, MAX_STEP, MIN_SPEED, MIN_STEP,
-                               ClockPacer, speed)
+from rbx1_nav.common.params import number, param
+from rbx1_nav.common.lockstep_member_ros import enabled as lockstep_enabled
+from rbx1_nav.sim_time import lockstep_ros
+from rbx1_nav.common.node_ros import start_node
+from rbx1_nav.sim_time.pacer import MAX_SPEED, MAX_START, MAX_STEP, MIN_SPEED, MIN_STEP, ClockPacer, speed
 
 PARAMS = (
     param('speed', 1.0, speed, 'x real time', 'simulated seconds per wall '
@@ -43,7 +43,7 @@ PARAMS = (
 
 def run_free(pacer):
     """/clock on the pacer's steps, nothing to wait for."""
-    clock = lockstep.ClockPublisher()
+    clock = lockstep_ros.ClockPublisher()
     while not rospy.is_shutdown():
         sim_ns, wait = pacer.advance(time.monotonic())
         if wait > 0:
@@ -58,10 +58,10 @@ def run_lockstep(pacer, speed, idle_speed):
     pacer.advance(time.monotonic())  # a first time after 0, which ROS reads as unset
     # At full speed nothing watches the wall clock between two ticks of a
     # motion node: the simulators step through their own grids alone.
-    owner = lockstep.TimeOwner(pacer.sim_ns, pacer.step_ns, batch=speed is None)
+    owner = lockstep_ros.TimeOwner(pacer.sim_ns, pacer.step_ns, batch=speed is None)
     # Time starts with its members: the simulators (and the nodes of an
     # earlier sim_clock, started again from further back) join first.
-    owner.wait_for_members(lockstep.FIRST_MEMBER)
+    owner.wait_for_members(lockstep_ros.FIRST_MEMBER)
 
     def plan(grant, drives):
         target, names = grant if grant else (None, [])
@@ -81,7 +81,7 @@ def main():
     pacer = ClockPacer(speed, values['step'], values['start_time'])
     if not rospy.get_param('/use_sim_time', False):
         rospy.logwarn('sim_clock: /use_sim_time is not set; nodes will ignore /clock')
-    if lockstep.enabled():
+    if lockstep_enabled():
         run_lockstep(pacer, speed, values['idle_speed'])
         return
     if speed is None:

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """teleop_keyboard.py - drive the robot from the keyboard of a terminal.
 
-Keys as in teleop_twist_keyboard (rbx1_nav.teleop has the map, the speed
+Keys as in teleop_twist_keyboard (rbx1_nav.motion.teleop has the map, the speed
 steps and the key-release timeout): hold i to drive forward, j/l to turn,
 u/o/m/. for arcs, k or space to stop; q/z w/x e/c change the speeds; Q or
 Ctrl-C stops the robot and quits.
@@ -29,10 +29,10 @@ import warnings
 import rospy
 from geometry_msgs.msg import Twist
 
-from rbx1_nav import params
-from rbx1_nav.ros.node import exit_if_help
-from rbx1_nav.ros.publishers import watch_publishers
-from rbx1_nav.teleop import (PARAMS, QUIT_KEYS, STOP, KeyboardTeleop,
+from rbx1_nav.common import params
+from rbx1_nav.common.node_ros import exit_if_help
+from rbx1_nav.common.cmd_vel_watch_ros import watch_publishers
+from rbx1_nav.motion.teleop import (PARAMS, QUIT_KEYS, STOP, KeyboardTeleop,
                              check_settings, help_text)
 
 NOT_A_TERMINAL = (

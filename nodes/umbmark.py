@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """umbmark.py - UMBmark: find unequal wheel diameters and the true wheel base.
 
-Borenstein and Feng's bidirectional square test (rbx1_nav.umbmark): ~runs
+Borenstein and Feng's bidirectional square test (rbx1_nav.calibration.umbmark): ~runs
 squares of ~side clockwise, then as many counter-clockwise, each in precise
 mode on odometry (tf odom -> base). After each run the true return position
 relative to the run's start is needed:
@@ -19,7 +19,7 @@ relative to the run's start is needed:
 It prints the return errors, each direction's scatter (standard deviation,
 standard error of the centre of gravity), E_max,syst, Ed, Eb and, when the
 data support a correction (a centre of gravity more than 2 standard errors
-from zero, rbx1_nav.umbmark), the factors for the driver
+from zero, rbx1_nav.calibration.umbmark), the factors for the driver
 (diff_drive_controller's three multipliers, a TurtleBot driver's
 odom_angular_scale_correction); otherwise it says that E_max,syst is within
 the noise and about how many runs would be needed. It writes them to
@@ -36,14 +36,15 @@ import sys
 import rospy
 import yaml
 
-from rbx1_nav import params, umbmark
-from rbx1_nav.motion import (MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED,
+from rbx1_nav.common import params
+from rbx1_nav.calibration import umbmark
+from rbx1_nav.motion.course import (MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED,
                              PRECISE_PARAMS, approach)
-from rbx1_nav.params import param
-from rbx1_nav.ros.node import exit_node, start_node
-from rbx1_nav.ros.runner import (CourseAborted, MotionRunner, common_params,
+from rbx1_nav.common.params import param
+from rbx1_nav.common.node_ros import exit_node, start_node
+from rbx1_nav.motion.runner_ros import (CourseAborted, MotionRunner, common_params,
                                  guarded)
-from rbx1_nav.ros.truth import TRUTH_PARAM, GroundTruth
+from rbx1_nav.calibration.truth_ros import TRUTH_PARAM, GroundTruth
 
 NAME = 'umbmark'
 PARAMS = (

@@ -22,9 +22,9 @@ import rostest
 from geometry_msgs.msg import Twist
 from rosgraph_msgs.msg import Log
 
-from rbx1_nav.fake_robot import WARN_PERIOD
+from rbx1_nav.sim.params import WARN_PERIOD
 
-sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..'))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from fake_turtlebot_recorder import Recorder, motion_episode, planar, wait_for  # noqa: E402
 
 PKG = 'rbx1_nav'

@@ -2,7 +2,7 @@
 
 rospy registers a node's topics with the master once; a restarted roscore
 knows none of them, though the connections already made go on. pose_ekf
-and odom_ekf notice the new master (rbx1_nav.ros.master) and register
+and odom_ekf notice the new master (rbx1_nav.common.master_ros) and register
 again. The fake robot does not: its odometry reaches pose_ekf only over
 the connection made before the restart, which re-registering must keep.
 The test kills roscore, starts a new one on the same port, and checks
@@ -177,7 +177,7 @@ class FakeMaster(object):
 
 
 def test_master_watch_reports_gone_back_and_restarted_and_never_waits_long():
-    from rbx1_nav.ros.master import MasterWatch  # rospy, but no master needed
+    from rbx1_nav.common.master_ros import MasterWatch  # rospy, but no master needed
     old, new = FakeMaster(101, 'run-a'), FakeMaster(202, 'run-b')
     silent = socket.socket()  # takes connections, never answers
     silent.bind(('127.0.0.1', 0))

@@ -256,7 +256,7 @@ def start_fleet(hosts, robots):
     hosts.run('robot', ['rosrun', 'rbx1_nav', 'fake_fleet.py',
                         '_robots:=[%s]' % ', '.join(robots)], **pipe)
     truth = Lines(hosts.run('robot', [sys.executable, os.path.join(
-        os.path.dirname(os.path.abspath(__file__)), 'truth_echo.py')] + robots, **pipe))
+        os.path.dirname(os.path.abspath(__file__)), os.pardir, 'helpers', 'truth_echo.py')] + robots, **pipe))
     deadline = time.monotonic() + 30
     while {line.split()[0] for _, line in list(truth.lines)} != set(robots):
         assert time.monotonic() < deadline, 'no ground truth of every robot:\n' + truth.text()

@@ -20,7 +20,7 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Log
 
-from rbx1_nav.out_and_back import Pose2D, pose_error
+from rbx1_nav.motion.book import Pose2D, pose_error
 from rbx1_nav.transform_utils import quat_to_angle
 
 WALL_LIMIT = 120.0  # s; a guard so a broken run fails instead of hanging

@@ -11,7 +11,7 @@ import subprocess
 
 import pytest
 
-IMPORT = ('import rbx1_nav, rbx1_nav.ros.runner; '
+IMPORT = ('import rbx1_nav, rbx1_nav.motion.runner_ros; '
           'from rbx1_nav.cfg import CalibrateLinearConfig as L, '
           'CalibrateAngularConfig as A; '
           'print(rbx1_nav.__file__); print(sorted(L.defaults)); '

@@ -1,7 +1,7 @@
 """The README's node table lists exactly the parameters each node reads.
 
 Each node declares every private parameter it reads (``PARAMS``, a tuple of
-rbx1_nav.params.Param, read through rbx1_nav.ros.node.start_node) and
+rbx1_nav.common.params.Param, read through rbx1_nav.common.node_ros.start_node) and
 lists them for ``--help``, so that list is the truth; the README row of the
 node must name each of them in backticks, and no other. "and the runner's"
 in a row stands for the runner's row, "`NODE.py`'s" for that node's row.

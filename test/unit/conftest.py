@@ -9,6 +9,8 @@ import tempfile
 from hypothesis import configuration, settings
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', '..', 'src'))
+# Test plumbing shared with the rostests (ideal_robot.py).
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 
 # The same examples on every run (derandomize), and no per-example time
 # limit: the suite runs beside other work, and speed belongs in bench/.

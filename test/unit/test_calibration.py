@@ -1,4 +1,4 @@
-"""Unit tests for rbx1_nav.calibration: the tests' courses and the arithmetic."""
+"""Unit tests for rbx1_nav.calibration.scale: the tests' courses and the arithmetic."""
 import ast
 import math
 import os
@@ -6,10 +6,10 @@ import os
 import pytest
 
 from ideal_robot import IdealRobot, run
-from rbx1_nav.calibration import (ANGULAR, LINEAR, USUAL, PoseTrack,
+from rbx1_nav.calibration.scale import (ANGULAR, LINEAR, USUAL, PoseTrack,
                                   correction, course, far_from_one, measure,
                                   report)
-from rbx1_nav.diff_drive import DiffDriveConfig
+from rbx1_nav.sim.diff_drive import DiffDriveConfig
 from rbx1_nav.transform_utils import Pose2D, normalize_angle
 
 LINEAR_CONFIG = {'test_distance': 1.0, 'speed': 0.15, 'tolerance': 0.01,

@@ -1,12 +1,13 @@
-"""Unit tests for rbx1_nav.diff_drive, the fake TurtleBot's model (no master)."""
+"""Unit tests for rbx1_nav.sim.diff_drive, the fake TurtleBot's model (no master)."""
 import math
 
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from rbx1_nav.diff_drive import (CONFIG_LIMITS, DiffDriveConfig, DiffDriveFleet,
-                                 DiffDriveSim, arc_step, covariance_from_diagonal)
+from rbx1_nav.common.geometry import arc_step
+from rbx1_nav.sim.diff_drive import (CONFIG_LIMITS, DiffDriveConfig, DiffDriveFleet,
+                                     DiffDriveSim, arc_steps, covariance_from_diagonal)
 from rbx1_nav.transform_utils import Pose2D, quat_to_angle, yaw_to_quaternion
 
 RATE = 50.0
@@ -68,6 +69,14 @@ def test_arc_matches_circle_geometry(theta, ds, dtheta):
     assert (p.x, p.y) == pytest.approx(expected, abs=1e-9)
     assert math.cos(p.yaw) == pytest.approx(math.cos(theta + dtheta), abs=1e-9)
     assert math.sin(p.yaw) == pytest.approx(math.sin(theta + dtheta), abs=1e-9)
+
+
+@given(st.floats(-math.pi, math.pi), steps, steps)
+def test_the_simulators_array_form_matches_the_controllers_arc(theta, ds, dtheta):
+    """sim.diff_drive.arc_steps (numpy, N robots) is common.geometry.arc_step."""
+    one = arc_step(Pose2D(0.1, -0.2, theta), ds, dtheta)
+    row = arc_steps(np.array([[0.1, -0.2, theta]]), np.array([ds]), np.array([dtheta]))[0]
+    assert tuple(row) == pytest.approx((one.x, one.y, one.yaw), abs=1e-12)
 
 
 @given(st.floats(-math.pi, math.pi), steps, steps)

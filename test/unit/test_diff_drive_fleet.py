@@ -1,4 +1,4 @@
-"""Unit tests for rbx1_nav.diff_drive.DiffDriveFleet, N bases in arrays
+"""Unit tests for rbx1_nav.sim.diff_drive.DiffDriveFleet, N bases in arrays
 (the model of nodes/fake_fleet.py; no master)."""
 import math
 import random
@@ -6,7 +6,7 @@ import random
 import numpy as np
 import pytest
 
-from rbx1_nav.diff_drive import DiffDriveConfig, DiffDriveFleet, DiffDriveSim
+from rbx1_nav.sim.diff_drive import DiffDriveConfig, DiffDriveFleet, DiffDriveSim
 
 RATE = 50.0
 TOLERANCE = 1e-12  # the fleet must step each robot as the single model does

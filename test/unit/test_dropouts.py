@@ -1,8 +1,8 @@
-"""rbx1_nav.dropouts: a stale transform is held, ridden out, or given up."""
+"""rbx1_nav.motion.dropouts: a stale transform is held, ridden out, or given up."""
 import pytest
 
-from rbx1_nav.dropouts import FRESH, HOLD, LOST, Dropouts
-from rbx1_nav.motion import STOP, Course, Drive
+from rbx1_nav.motion.dropouts import FRESH, HOLD, LOST, Dropouts
+from rbx1_nav.motion.course import STOP, Course, Drive
 from rbx1_nav.transform_utils import Pose2D
 
 

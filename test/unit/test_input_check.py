@@ -1,13 +1,10 @@
-"""Unit tests for rbx1_nav.input_check: the input screening shared by
+"""Unit tests for rbx1_nav.estimation.input_check: the input screening shared by
 pose_ekf and odom_ekf (no ROS master needed)."""
 import numpy as np
 import pytest
 
-from rbx1_nav.input_check import (ABSURD, DUPLICATE, MAX_POSITION,
-                                  MAX_VARIANCE, NEGATIVE_VARIANCE, NOT_FINITE,
-                                  OUT_OF_ORDER, ZERO_STAMP, ClockWatch,
-                                  InputCheck, RejectedInput,
-                                  time_moved_back_text)
+from rbx1_nav.estimation.input_check import ABSURD, DUPLICATE, MAX_POSITION, MAX_VARIANCE, NEGATIVE_VARIANCE, NOT_FINITE, OUT_OF_ORDER, ZERO_STAMP, InputCheck, RejectedInput
+from rbx1_nav.common.ros_time import ClockWatch, time_moved_back_text
 
 NAN, INF = float('nan'), float('inf')
 COV = np.diag([0.01, 0.01, 0.1])

@@ -1,8 +1,8 @@
-"""Unit tests for rbx1_nav.launch_end: when a wrapped node's clean exit
+"""Unit tests for rbx1_nav.common.launch_end: when a wrapped node's clean exit
 ends its roslaunch (nodes/end_launch_on_success.py)."""
 import os
 
-from rbx1_nav.launch_end import is_roslaunch, node_name, others_running, processes
+from rbx1_nav.common.launch_end import is_roslaunch, node_name, others_running, processes
 
 ROSLAUNCH = ['/usr/bin/python3', '/usr/bin/roslaunch', 'rbx1_nav', 'nav_square.launch']
 WRAPPER = ['/usr/bin/python3', '/ws/devel/lib/rbx1_nav/end_launch_on_success.py']

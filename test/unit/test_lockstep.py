@@ -1,4 +1,4 @@
-"""rbx1_nav.lockstep: one owner grants every step, and nothing can wait forever.
+"""rbx1_nav.sim_time.lockstep: one owner grants every step, and nothing can wait forever.
 
 The first tests check the rules one at a time. The last ones run a whole
 lockstep graph (an owner, a simulator and motion nodes) in plain Python,
@@ -13,8 +13,8 @@ import random
 
 import pytest
 
-from rbx1_nav.lockstep import (BACK, HANDLE, REPEAT, STALE, CommandLedger,
-                               Follower, Owner, Report)
+from rbx1_nav.sim_time.lockstep import Owner
+from rbx1_nav.common.lockstep_member import BACK, HANDLE, REPEAT, STALE, CommandLedger, Follower, Report
 
 MS = 1000000  # ns
 

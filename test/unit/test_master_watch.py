@@ -1,9 +1,9 @@
-"""Unit tests for rbx1_nav.master_watch (no ROS master needed)."""
+"""Unit tests for rbx1_nav.common.master_watch (no ROS master needed)."""
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from rbx1_nav.master_watch import (BACK, GONE, GONE_AFTER, RESTARTED,
+from rbx1_nav.common.master_watch import (BACK, GONE, GONE_AFTER, RESTARTED,
                                    MasterStates, gone_text, restarted_text,
                                    reregistering_text, same_master)
 

@@ -1,4 +1,4 @@
-"""Unit tests for rbx1_nav.motion: the primitives and the Course, no ROS.
+"""Unit tests for rbx1_nav.motion.course: the primitives and the Course, no ROS.
 
 The out-and-back rules are covered in test_out_and_back.py; here the open-
 loop steps, the square, and how steps chain.
@@ -10,8 +10,8 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from ideal_robot import DT, IdealRobot, run
-from rbx1_nav import params
-from rbx1_nav.motion import (PRECISE_PARAMS, STOP, Approach, Command, Course,
+from rbx1_nav.common import params
+from rbx1_nav.motion.course import (PRECISE_PARAMS, STOP, Approach, Command, Course,
                              Drive, InFlight, Pause, Stalls, TimedDrive,
                              TimedTurn, Turn, approach, legs_course,
                              legs_params, pose_error)
@@ -295,7 +295,7 @@ def test_distances_and_angles_have_upper_bounds(name, value, words):
 
 
 def test_control_rates_show_a_missed_second():
-    from rbx1_nav.motion import control_rates
+    from rbx1_nav.motion.course import control_rates
     steady = [100.0 + 0.05 * k for k in range(201)]  # 10 s at 20 Hz
     mean, slowest = control_rates(steady)
     assert mean == pytest.approx(20.0) and slowest == 20
@@ -306,7 +306,7 @@ def test_control_rates_show_a_missed_second():
 
 
 def test_control_rates_count_ticks_on_whole_seconds_once():
-    from rbx1_nav.motion import control_rates
+    from rbx1_nav.motion.course import control_rates
     # Far from zero, 8.71 + k * 0.05 rounds some whole seconds just under.
     ticks = [8.71 + k * 0.05 for k in range(401)]
     assert control_rates(ticks)[1] == 20

@@ -1,4 +1,4 @@
-"""Unit tests for rbx1_nav.odom_ekf (no ROS master needed)."""
+"""Unit tests for rbx1_nav.estimation.odom_ekf (no ROS master needed)."""
 import copy
 import math
 
@@ -7,10 +7,8 @@ import pytest
 geometry_msgs = pytest.importorskip('geometry_msgs.msg')
 rospy_time = pytest.importorskip('genpy')
 
-from rbx1_nav.input_check import (ABSURD, DUPLICATE,  # noqa: E402
-                                  MAX_POSITION, NEGATIVE_VARIANCE, NOT_FINITE,
-                                  OUT_OF_ORDER, ZERO_STAMP, RejectedInput)
-from rbx1_nav.odom_ekf import (MAX_TWIST, MIN_TWIST_DT,  # noqa: E402
+from rbx1_nav.estimation.input_check import ABSURD, DUPLICATE, MAX_POSITION, NEGATIVE_VARIANCE, NOT_FINITE, OUT_OF_ORDER, ZERO_STAMP, RejectedInput  # noqa: E402
+from rbx1_nav.estimation.odom_ekf import (MAX_TWIST, MIN_TWIST_DT,  # noqa: E402
                                UNKNOWN_TWIST_COVARIANCE,
                                UNKNOWN_VARIANCE, PoseToOdometry,
                                silent_input_text)

@@ -1,4 +1,4 @@
-"""Unit tests for rbx1_nav.out_and_back: the course state machine, no ROS.
+"""Unit tests for rbx1_nav.motion.book: the course state machine, no ROS.
 
 An idealised robot integrates each command for one control period; the
 tests check what a user would see: the legs in order, the pauses, the
@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from ideal_robot import DT, IdealRobot, run
-from rbx1_nav.out_and_back import (STOP, Command, CourseConfig, OutAndBack,
+from rbx1_nav.motion.book import (STOP, Command, CourseConfig, OutAndBack,
                                    Pose2D, expected_end_pose, pose_error)
 from rbx1_nav.transform_utils import normalize_angle
 

@@ -1,10 +1,53 @@
-"""Checks that keep the package's wiring honest as scripts are added."""
+"""Checks that keep the package's layout and wiring honest as code is added.
+
+The rule: a subsystem's logic is a rospy-free module in
+``src/rbx1_nav/<subsystem>/``; its ROS side is the ``*_ros.py`` module
+beside it; a script in ``nodes/`` declares its parameters and calls one
+entry point. Imports run one way (IMPORT_RULES).
+"""
+import ast
 import glob
 import os
 import re
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), '..', '..'))
+PACKAGE = os.path.join(ROOT, 'src', 'rbx1_nav')
 NODES = sorted(glob.glob(os.path.join(ROOT, 'nodes', '*.py')))
+SUBSYSTEMS = ('common', 'motion', 'sim', 'sim_time', 'calibration', 'estimation')
+#: Modules that talk to a ROS master or a running graph: only *_ros.py may
+#: import them.
+ROS_CLIENTS = ('rospy', 'tf2_ros', 'rosbag', 'rosgraph', 'rospkg',
+               'dynamic_reconfigure')
+#: subsystem -> the subsystems it must not import.
+IMPORT_RULES = {
+    'common': set(SUBSYSTEMS) - {'common'},
+    'motion': {'sim', 'sim_time', 'estimation', 'calibration'},
+    'sim': {'motion', 'calibration', 'estimation'},
+    'sim_time': {'motion', 'sim', 'calibration', 'estimation'},
+    'estimation': {'motion', 'sim', 'sim_time', 'calibration'},
+    'calibration': {'sim', 'sim_time', 'estimation'},
+}
+
+
+def _modules():
+    """(subsystem or None, path) of every module of the package."""
+    for path in sorted(glob.glob(os.path.join(PACKAGE, '**', '*.py'), recursive=True)):
+        rel = os.path.relpath(path, PACKAGE).split(os.sep)
+        yield (rel[0] if len(rel) > 1 else None), path
+
+
+def _imports(path):
+    """Every module name ``path`` imports (absolute imports only)."""
+    with open(path) as f:
+        tree = ast.parse(f.read(), path)
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for alias in node.names:
+                yield alias.name
+        elif isinstance(node, ast.ImportFrom) and node.module:
+            yield node.module
+            for alias in node.names:  # from rbx1_nav import sim
+                yield node.module + '.' + alias.name
 
 
 def _cmake_installed_programs():
@@ -28,17 +71,72 @@ def test_installed_programs_exist():
         assert os.path.isfile(os.path.join(ROOT, rel)), rel
 
 
-def test_logic_modules_import_no_rospy():
-    for path in glob.glob(os.path.join(ROOT, 'src', 'rbx1_nav', '*.py')):
-        text = open(path).read()
-        assert not re.search(r'^\s*(import|from)\s+rospy', text, re.M), path
+def test_one_folder_per_subsystem_and_no_flat_modules():
+    """Only the package's __init__ and the book's transform_utils sit at the
+    top; every folder is a subsystem that setup.py installs."""
+    top = {os.path.basename(p) for p in glob.glob(os.path.join(PACKAGE, '*.py'))}
+    assert top == {'__init__.py', 'transform_utils.py'}
+    folders = {d for d in os.listdir(PACKAGE)
+               if os.path.isdir(os.path.join(PACKAGE, d)) and d != '__pycache__'}
+    assert folders == set(SUBSYSTEMS)
+    setup = open(os.path.join(ROOT, 'setup.py')).read()
+    for sub in SUBSYSTEMS:
+        assert os.path.isfile(os.path.join(PACKAGE, sub, '__init__.py')), sub
+        assert "'rbx1_nav.%s'" % sub in setup, 'setup.py does not install %s' % sub
+
+
+def test_only_ros_modules_import_a_ros_client():
+    for _, path in _modules():
+        if path.endswith('_ros.py'):
+            continue
+        for name in _imports(path):
+            assert name.split('.')[0] not in ROS_CLIENTS, (
+                '%s imports %s: logic stays rospy-free; the ROS side goes in '
+                'a *_ros.py module beside it' % (os.path.relpath(path, ROOT), name))
+
+
+def test_imports_run_one_way():
+    for sub, path in _modules():
+        banned = IMPORT_RULES.get(sub, set(SUBSYSTEMS))  # top level: none
+        if sub is None and path.endswith('__init__.py'):
+            continue
+        for name in _imports(path):
+            parts = name.split('.')
+            if parts[0] == 'rbx1_nav' and len(parts) > 1:
+                assert parts[1] not in banned, '%s (%s) imports %s' % (
+                    os.path.relpath(path, ROOT), sub or 'top level', name)
+
+
+def test_nodes_hold_no_rospy_logic_of_their_own():
+    """A node file declares its parameters and calls one entry point: the
+    ROS plumbing lives in a *_ros.py module, the behaviour beside it."""
+    for path in NODES:
+        with open(path) as f:
+            text = f.read()
+        assert not re.search(r'^\s*(import|from)\s+(rospy|tf2_ros)\b', text, re.M), (
+            '%s imports rospy: move its ROS side into src/rbx1_nav/<subsystem>/'
+            '*_ros.py' % os.path.relpath(path, ROOT))
 
 
 def test_rostest_scripts_are_executable():
-    for test_file in glob.glob(os.path.join(ROOT, 'test', '*.test')):
+    tests = glob.glob(os.path.join(ROOT, 'test', '**', '*.test'), recursive=True)
+    assert tests
+    for test_file in tests:
         for script in re.findall(r'type="([^"]+\.py)"', open(test_file).read()):
             hits = glob.glob(os.path.join(ROOT, 'test', '**', script), recursive=True)
             hits += glob.glob(os.path.join(ROOT, 'nodes', script))
             assert hits, '%s names %s, which is not in test/ or nodes/' % (
                 test_file, script)
             assert all(os.access(h, os.X_OK) for h in hits), script
+
+
+def test_every_rostest_sits_beside_its_script():
+    """test/rostest/ and test/faults/ keep each .test beside the script it
+    runs (ros_comm's test/test_rospy); helpers live in test/helpers/."""
+    for folder in ('rostest', 'faults'):
+        for test_file in glob.glob(os.path.join(ROOT, 'test', folder, '*.test')):
+            scripts = re.findall(r'<test [^>]*type="([^"]+\.py)"', open(test_file).read())
+            for script in scripts:
+                assert os.path.isfile(os.path.join(os.path.dirname(test_file), script)), (
+                    '%s runs %s, which is not beside it' % (test_file, script))
+    assert not glob.glob(os.path.join(ROOT, 'test', '*.test'))

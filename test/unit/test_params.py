@@ -1,10 +1,10 @@
-"""Unit tests for rbx1_nav.params, the parameter checks every node uses."""
+"""Unit tests for rbx1_nav.common.params, the parameter checks every node uses."""
 import math
 
 import pytest
 from hypothesis import given, strategies as st
 
-from rbx1_nav.params import (POSITIVE, bounds, check_all, command_line, flag, frame,
+from rbx1_nav.common.params import (POSITIVE, bounds, check_all, command_line, flag, frame,
                              integer, leftovers, names, number, number_list, param,
                              text, usage)
 

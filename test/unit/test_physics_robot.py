@@ -1,4 +1,4 @@
-"""Unit tests for rbx1_nav.physics_robot: the TurtleBot with real dynamics
+"""Unit tests for rbx1_nav.sim.physics: the TurtleBot with real dynamics
 on MuJoCo (no master). The model tests need MuJoCo (`make deps` installs
 it); the configuration tests run without it."""
 import builtins
@@ -7,8 +7,8 @@ import xml.etree.ElementTree as ElementTree
 
 import pytest
 
-from rbx1_nav.diff_drive import DiffDriveConfig, DiffDriveFleet
-from rbx1_nav.physics_robot import (INSTALL_HINT, URDF, Body, PhysicsConfig,
+from rbx1_nav.sim.diff_drive import DiffDriveConfig, DiffDriveFleet
+from rbx1_nav.sim.physics import (INSTALL_HINT, URDF, Body, PhysicsConfig,
                                     PhysicsFleet)
 
 def mujoco_or_skip():

@@ -1,17 +1,15 @@
-"""Unit tests for rbx1_nav.pose_ekf, the planar gyro + wheel filter."""
+"""Unit tests for rbx1_nav.estimation, the planar gyro + wheel filter."""
 import math
 
 import numpy as np
 import pytest
 from hypothesis import given, strategies as st
 
-from rbx1_nav.input_check import (ABSURD, DUPLICATE, NEGATIVE_VARIANCE,
-                                  NOT_FINITE, OUT_OF_ORDER, ZERO_STAMP,
-                                  RejectedInput)
-from rbx1_nav.pose_ekf import (MAX_POSITION, MAX_VARIANCE, GyroOdomFusion,
-                               PlanarEkf, SensorWatch, covariance_6x6,
-                               floored, is_finite_estimate, odom_increment,
-                               pose_covariance_3x3)
+from rbx1_nav.estimation.input_check import ABSURD, DUPLICATE, NEGATIVE_VARIANCE, NOT_FINITE, OUT_OF_ORDER, ZERO_STAMP, RejectedInput
+from rbx1_nav.estimation.ekf import PlanarEkf, covariance_6x6, floored, is_finite_estimate, odom_increment, pose_covariance_3x3
+from rbx1_nav.estimation.fusion import GyroOdomFusion
+from rbx1_nav.estimation.input_check import MAX_POSITION, MAX_VARIANCE
+from rbx1_nav.estimation.sensors import SensorWatch
 from rbx1_nav.transform_utils import normalize_angle
 
 ODOM_COV = np.diag([1e-4, 1e-4, 1e-2])   # wheels: poor yaw

@@ -15,7 +15,7 @@ rosbag = pytest.importorskip('rosbag')
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', '..',
                                 'bench'))
 import pose_ekf_husky as husky  # noqa: E402
-from rbx1_nav.pose_ekf import GyroOdomFusion  # noqa: E402
+from rbx1_nav.estimation.fusion import GyroOdomFusion  # noqa: E402
 from rbx1_nav.transform_utils import normalize_angle  # noqa: E402
 
 ROTATION = husky.MODES['gps_frame_rotation']

@@ -1,14 +1,14 @@
 """Unit tests for pose_ekf's visual odometry and GPS inputs, its status
 text, its start-up sensor check and its second-publisher watch
-(rbx1_nav.pose_ekf; the gyro + wheel basics are in test_pose_ekf.py)."""
+(rbx1_nav.estimation; the gyro + wheel basics are in test_pose_ekf.py)."""
 import math
 
 import numpy as np
 import pytest
 
-from rbx1_nav.pose_ekf import (GyroOdomFusion, OtherPublisherWatch, PlanarEkf,
-                               odom_increment, other_publisher_text,
-                               position_covariance_2x2, silent_sensor_text)
+from rbx1_nav.estimation.ekf import PlanarEkf, odom_increment, position_covariance_2x2
+from rbx1_nav.estimation.fusion import GyroOdomFusion
+from rbx1_nav.estimation.status import OtherPublisherWatch, other_publisher_text, silent_sensor_text
 from rbx1_nav.transform_utils import normalize_angle
 
 # Per 30 Hz step. x, y: a random walk of 0.055 m/sqrt(s), about what it

@@ -28,8 +28,8 @@ import numpy as np
 import pytest
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', '..', 'src'))
-from rbx1_nav.input_check import RejectedInput  # noqa: E402
-from rbx1_nav.pose_ekf import GyroOdomFusion  # noqa: E402
+from rbx1_nav.estimation.input_check import RejectedInput  # noqa: E402
+from rbx1_nav.estimation.fusion import GyroOdomFusion  # noqa: E402
 
 FIXTURE = os.path.join(os.path.dirname(__file__), '..', 'data',
                        'pose_ekf_fbacc7c.npz')
@@ -85,7 +85,7 @@ def test_odom_and_imu_poses_are_those_before_issue_24(run):
 def read_bag(path, odom_topic, imu_topic):
     """The message rows of a bag's odometry and IMU, in its order."""
     import rosbag
-    from rbx1_nav.pose_ekf import pose_covariance_3x3
+    from rbx1_nav.estimation.ekf import pose_covariance_3x3
     from rbx1_nav.transform_utils import quat_to_angle
     rows = []
     with rosbag.Bag(path) as bag:

@@ -1,14 +1,14 @@
 """pose_ekf and the "do not use this component" variances drivers publish
 (1e6, 1e10, 1e308, DBL_MAX, -1, inf): the component is left unmeasured,
 said once, and the published covariance stays that of what was measured
-(rbx1_nav.pose_ekf)."""
+(rbx1_nav.estimation)."""
 import math
 import sys
 
 import numpy as np
 import pytest
 
-from rbx1_nav.pose_ekf import GyroOdomFusion
+from rbx1_nav.estimation.fusion import GyroOdomFusion
 
 GYRO_VAR = 1e-6
 ODOM_XY_VAR = 1e-3

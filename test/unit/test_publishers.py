@@ -1,5 +1,5 @@
-"""rbx1_nav.publishers: each other publisher of a cmd_vel named once."""
-from rbx1_nav.publishers import NewPublishers, warning_text
+"""rbx1_nav.common.cmd_vel_watch: each other publisher of a cmd_vel named once."""
+from rbx1_nav.common.cmd_vel_watch import NewPublishers, warning_text
 
 
 def test_a_course_names_each_other_publisher_once():

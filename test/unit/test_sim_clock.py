@@ -1,8 +1,8 @@
-"""Unit tests for rbx1_nav.sim_clock.ClockPacer, with a fake wall clock."""
+"""Unit tests for rbx1_nav.sim_time.pacer.ClockPacer, with a fake wall clock."""
 import pytest
 
-from rbx1_nav import sim_clock
-from rbx1_nav.sim_clock import ClockPacer
+from rbx1_nav.sim_time import pacer
+from rbx1_nav.sim_time.pacer import ClockPacer
 
 
 def run(pacer, ticks, wall=100.0, extra_delay=0.0):
@@ -72,13 +72,13 @@ def test_a_new_speed_takes_over_from_the_next_step():
 @pytest.mark.parametrize('value, expected', [('max', None), (' MAX ', None),
                                              (10, 10.0), ('2.5', 2.5)])
 def test_speed_parameter(value, expected):
-    assert sim_clock.speed("~speed", value) == expected
+    assert pacer.speed("~speed", value) == expected
 
 
 @pytest.mark.parametrize('value', ['fast', 0, -1, float('nan'), 1e9, True])
 def test_bad_speed_parameter_names_max(value):
     with pytest.raises(ValueError, match="'max' or a number"):
-        sim_clock.speed("~speed", value)
+        pacer.speed("~speed", value)
 
 
 def test_a_granted_step_is_reached_in_one_jump():

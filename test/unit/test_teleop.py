@@ -1,10 +1,10 @@
-"""Unit tests for rbx1_nav.teleop: keyboard teleop keys, speeds, timeout."""
+"""Unit tests for rbx1_nav.motion.teleop: keyboard teleop keys, speeds, timeout."""
 import math
 
 import pytest
 
-from rbx1_nav.motion import MAX_ANGULAR_SPEED
-from rbx1_nav.teleop import (MOTION_KEYS, PARAMS, QUIT_KEYS, SPEED_KEYS,
+from rbx1_nav.motion.course import MAX_ANGULAR_SPEED
+from rbx1_nav.motion.teleop import (MOTION_KEYS, PARAMS, QUIT_KEYS, SPEED_KEYS,
                              STOP, STOP_KEYS, KeyboardTeleop, Speeds,
                              check_settings, help_text)
 

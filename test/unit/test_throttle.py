@@ -1,5 +1,5 @@
-"""Unit tests for rbx1_nav.throttle (no ROS master needed)."""
-from rbx1_nav.throttle import Throttle
+"""Unit tests for rbx1_nav.common.throttle (no ROS master needed)."""
+from rbx1_nav.common.throttle import Throttle
 
 
 def test_throttle_repeats_a_warning_once_per_period_per_key():

@@ -1,4 +1,4 @@
-"""Unit tests for rbx1_nav.umbmark: a simulated robot with known Ed and Eb,
+"""Unit tests for rbx1_nav.calibration.umbmark: a simulated robot with known Ed and Eb,
 driven round the squares on its own odometry, must give them back."""
 import math
 
@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from ideal_robot import run
-from rbx1_nav.motion import Approach
-from rbx1_nav.umbmark import (FALSE_ALARM, analyse, check_errors, corrections,
+from rbx1_nav.motion.course import Approach
+from rbx1_nav.calibration.umbmark import (FALSE_ALARM, analyse, check_errors, corrections,
                               critical, plot, relative, report, runs_needed,
                               square_course)
 from rbx1_nav.transform_utils import Pose2D, normalize_angle

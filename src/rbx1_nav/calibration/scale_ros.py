@@ -1,0 +1,173 @@
+"""The ROS side of calibrate_linear.py and calibrate_angular.py.
+
+Like the book's nodes, each is a dynamic_reconfigure server that waits for
+``start_test``; setting it (from rqt_reconfigure where installed, with
+``rosrun dynamic_reconfigure dynparam set``, or ``_start_test:=true`` on the
+command line) runs one test through rbx1_nav.motion.runner_ros, then clears it.
+The node then needs the distance or angle really covered: from
+``~ground_truth_topic`` (nav_msgs/Odometry, e.g. the simulator's
+ground_truth) when set, otherwise from the ``measured_*`` field the user
+sets after measuring the floor. It prints the scale correction to set on
+the driver (rbx1_nav.calibration.scale) and waits for the next test.
+
+A test that fails (no tf, a stale transform, the clock gone, Ctrl-C) stops
+the robot and ends the node with status 1; Ctrl-C between tests ends it
+with status 0.
+"""
+import threading
+
+import rospy
+from dynamic_reconfigure.server import Server
+
+from rbx1_nav.calibration import scale
+from rbx1_nav.common import params
+from rbx1_nav.common.params import param
+from rbx1_nav.common.node_ros import exit_node, start_node
+from rbx1_nav.motion.runner_ros import MotionRunner, common_params, guarded
+from rbx1_nav.calibration.truth_ros import TRUTH_PARAM, GroundTruth
+
+NODE_PARAMS = (
+    TRUTH_PARAM,
+    param('settle', 1.0, params.number, 's',
+          'stopped time before odometry is read', minimum=0.0, maximum=60.0),
+)
+
+
+def config_params(config_type):
+    """The reconfigure fields of ``config_type`` as Params, with its bounds.
+
+    So they are checked at start-up like every other parameter:
+    dynamic_reconfigure itself would clamp an out-of-range number silently
+    and choke on a string.
+    """
+    specs = []
+    for field in config_type.config_description['parameters']:
+        name = field['name']
+        if field['type'] == 'bool':
+            specs.append(param(name, field['default'], params.flag, '',
+                               field['description']))
+        else:
+            specs.append(param(name, field['default'], params.number, '',
+                               field['description'], minimum=field['min'],
+                               maximum=field['max']))
+    return tuple(specs)
+
+
+class CalibrationNode(object):
+    """One calibration kind's tests, between reconfigure and the runner."""
+
+    def __init__(self, kind, config_type, settings):
+        self.kind = kind
+        self.name = 'calibrate_' + kind.name
+        self.settings = settings
+        self.runner = MotionRunner(self.name, settings)
+        self.lock = threading.Lock()
+        self.config = None
+        self.odometry = None  # the last test's odometry value, kind's unit
+        self.node_factor = 1.0  # and the node's correction field it ran with
+        self.measured = 0.0  # a new measured_* value to report, or 0
+        self.measured_field = 0.0
+        topic = settings['ground_truth_topic']
+        self.truth = GroundTruth(topic) if topic else None
+        self.server = Server(config_type, self.on_reconfigure)
+
+    def on_reconfigure(self, config, level):
+        with self.lock:
+            self.config = config
+            if config[self.kind.measured] != self.measured_field:
+                self.measured = self.measured_field = config[self.kind.measured]
+        return config
+
+    def spin(self):
+        """Serve tests until shutdown; raises if a test fails."""
+        self.runner.start()
+        rospy.loginfo('%s: ready. Start a test with: rosrun dynamic_reconfigure '
+                      'dynparam set %s start_test true', self.name,
+                      rospy.get_name())
+        poll = rospy.Rate(10)
+        while not rospy.is_shutdown():
+            with self.lock:
+                config = dict(self.config)
+                measured, self.measured = self.measured, 0.0
+            if config['start_test']:
+                self.run_test(config)
+                try:
+                    self.server.update_configuration({'start_test': False,
+                                                      self.kind.measured: 0.0})
+                except rospy.ROSException:
+                    if rospy.core.is_shutdown_requested():
+                        break  # Ctrl-C after the test: the robot is stopped
+                    raise
+            elif measured > 0.0:
+                self.report(measured, 'measured on the floor')
+            try:
+                poll.sleep()
+            except rospy.ROSInterruptException:
+                break
+
+    def run_test(self, config):
+        kind = self.kind
+        course = scale.course(kind, config, self.settings['settle'])
+        rospy.loginfo('%s: %s %g %s at %g %s, tolerance %g %s, this node\'s '
+                      '%s %g', self.name, kind.goal, config[kind.goal],
+                      kind.unit, config['speed'], kind.speed_unit,
+                      config['tolerance'], kind.unit, kind.correction,
+                      config[kind.correction])
+        if self.truth:  # the robot stands still until the course's first tick
+            self.truth.start(rospy.Time.now())
+        final = self.runner.run(course)
+        self.odometry = scale.measure(kind, course.start_pose, final,
+                                            course.yaw_total)
+        self.node_factor = config[kind.correction]
+        rospy.loginfo('%s: odometry says %.4f %s (tf %s -> %s, robot settled)',
+                      self.name, self.odometry, kind.unit,
+                      self.runner.odom_frame, self.runner.followed)
+        truth = self.truth.stop(self.runner.last_tick) if self.truth else None
+        if truth is not None:
+            self.report(truth.value(kind), 'ground truth on %s'
+                        % self.truth.topic)
+        else:
+            rospy.loginfo(
+                '%s: now measure the %s the robot really %s and give it '
+                '(%s): rosrun dynamic_reconfigure dynparam set %s %s VALUE',
+                self.name, kind.quantity, kind.moved, kind.unit_name,
+                rospy.get_name(), kind.measured)
+
+    def report(self, measured, source):
+        if self.odometry is None:
+            rospy.logwarn('%s: %s %g given before any test; run a test first '
+                          '(start_test true)', self.name, self.kind.measured,
+                          measured)
+            return
+        try:
+            lines, warning = scale.report(self.kind, self.odometry,
+                                                measured, source,
+                                                self.node_factor)
+        except ValueError as err:
+            rospy.logwarn('%s: %s; no correction computed', self.name, err)
+            return
+        for line in lines:
+            rospy.loginfo('%s: %s', self.name, line)
+        if warning:
+            rospy.logwarn('%s: %s', self.name, warning)
+
+
+def node_params(config_type):
+    """Every parameter of a calibration node with ``config_type``."""
+    return config_params(config_type) + NODE_PARAMS + common_params(rate=20.0)
+
+
+def main(kind, config_type, doc):
+    """main() of calibrate_<kind>.py (``doc``: its docstring, for --help);
+    returns the exit status."""
+    name = 'calibrate_' + kind.name
+    values = start_node(name, node_params(config_type), doc)
+    if values is None:
+        return 1
+    node = CalibrationNode(kind, config_type, values)
+    return guarded(name, node.runner, node.spin)
+
+
+def run(kind, config_type, doc):
+    """Run the node as a script: main(), then exit with its status."""
+    exit_node('calibrate_' + kind.name, main(kind, config_type, doc))

@@ -1,0 +1,335 @@
+"""UMBmark: unequal wheel diameters and the wheel base from two square tests.
+
+Borenstein and Feng's University of Michigan Benchmark (IEEE T-RA 1996): the
+robot drives a square of side L, on odometry, clockwise n times and
+counter-clockwise n times; after each run the return error
+
+    epsilon = true return position - odometry's return position
+
+is taken in the frame of the run's start (x forward, y left). Two systematic
+errors explain the two clusters of errors:
+
+* the wheel base is ``Eb`` times what odometry assumes, so every turn that
+  odometry calls 90 degrees is really 90 / Eb = 90 - alpha;
+* the right wheel's diameter is ``Ed`` times the left one's, so every leg
+  that odometry calls straight really curves left by beta.
+
+To first order (the paper's section 5) the centres of gravity of the
+clusters are
+
+    x_cw  = -2 L (beta + alpha)     y_cw  = -2 L (beta + alpha)
+    x_ccw =  2 L (beta - alpha)     y_ccw = -2 L (beta - alpha)
+
+so alpha = (x_cw + x_ccw) / (-4 L) and beta = (x_cw - x_ccw) / (-4 L), or
+from y, alpha = (y_cw - y_ccw) / (-4 L) and beta = (y_cw + y_ccw) / (-4 L).
+The second-order terms the paper drops push the x and the y figures
+apart in opposite directions (by several per cent of alpha and beta when
+both errors are present), so this module takes the mean of the two. Then
+
+    R  = (L / 2) / sin(beta / 2)          the radius of the curved legs
+    Ed = (R + b / 2) / (R - b / 2)        b: the wheel base
+    Eb = (pi / 2) / (pi / 2 - alpha)
+
+The measure of the result is E_max,syst, the larger distance of the two
+centres of gravity from the origin. The corrections follow
+diff_drive_controller's names: each wheel radius multiplied by 2 / (Ed + 1)
+(left) and 2 / (1 / Ed + 1) (right), which keeps their mean, and the wheel
+separation by Eb.
+
+Random errors scatter the return positions too, and with few runs or a
+noisy robot the centres of gravity may lie as far from zero as the scatter
+puts them by chance: then the "correction" is noise, and setting it makes
+the robot worse. So each cluster's scatter is reported,
+
+    s  = sqrt(sum |e_i - cg|^2 / (n - 1))   standard deviation of the n
+                                            return positions about their
+                                            centre of gravity (x and y
+                                            together)
+    se = s / sqrt(n)                        standard error of the centre
+                                            of gravity
+
+and the correction is *supported* when at least one centre of gravity lies
+farther from zero than chance puts it in ``FALSE_ALARM`` (5 %) of
+benchmarks of a robot without systematic errors: for each cluster,
+
+    |cg| / se > k(n),  k(n)^2 = (d / 2) ((FALSE_ALARM / 2)^(-2 / d) - 1),
+    d = 2 (n - 1)
+
+the exact test for the mean of n points with the same Gaussian scatter in
+x and y (|cg|^2 / se^2 follows the F distribution with 2 and d degrees of
+freedom), at FALSE_ALARM / 2 per cluster. k is about 2 standard errors:
+2.5 for 5 runs, 2.0 for 20, 1.9 for very many; 6.2 for 2 runs, whose
+scatter is itself a rough guess. One run each way shows no scatter and
+supports nothing. When a correction is not supported, the runs each way
+that would make a systematic error of the size measured stand out are the
+smallest n with |cg| sqrt(n) / s > k(n). No rospy here.
+"""
+import math
+from collections import namedtuple
+
+import numpy as np
+
+from rbx1_nav.motion.course import Course, Drive, Pause, Turn
+
+__all__ = ['relative', 'square_course', 'check_errors', 'analyse',
+           'analyse_runs', 'Result', 'Scatter', 'FALSE_ALARM', 'critical',
+           'runs_needed',
+           'corrections', 'report', 'plot']
+
+CW, CCW = 'cw', 'ccw'
+FALSE_ALARM = 0.05  # chance of a correction "supported" by noise alone
+
+
+def relative(start, end):
+    """(x, y) of ``end`` in the frame of ``start`` (x forward, y left)."""
+    dx, dy = end.x - start.x, end.y - start.y
+    c, s = math.cos(start.yaw), math.sin(start.yaw)
+    return (c * dx + s * dy, -s * dx + c * dy)
+
+
+def square_course(side, clockwise, linear_speed, angular_speed, approach,
+                  pause=1.0, label=''):
+    """One UMBmark run: [drive ``side``, turn 90 degrees] x 4, closed loop."""
+    angle = -math.pi / 2 if clockwise else math.pi / 2
+    steps = []
+    for k in range(1, 5):
+        name = '%s side %d/4' % (label, k)
+        steps += [Drive(side, linear_speed, approach=approach,
+                        heading_rate=angular_speed, label=name),
+                  Pause(pause),
+                  Turn(angle, angular_speed, approach=approach, label=name),
+                  Pause(pause)]
+    return Course(steps)
+
+
+def check_errors(errors, runs, side, name='errors'):
+    """``errors`` as an (runs, 2) array, or ValueError saying what is wrong.
+
+    A return error must be finite and smaller than the square's side: a
+    larger one is a measurement in the wrong unit or the wrong run.
+    """
+    try:
+        array = np.array(errors, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError('%s must be a list of %d [x, y] pairs (metres), got %.200r'
+                         % (name, runs, errors))
+    if array.shape != (runs, 2):
+        raise ValueError('%s must be a list of %d [x, y] pairs (metres), got %.200r'
+                         % (name, runs, errors))
+    for k, (x, y) in enumerate(array):
+        if not (math.isfinite(x) and math.isfinite(y)):
+            raise ValueError('%s[%d] = [%r, %r] is not a finite position'
+                             % (name, k, x, y))
+        if math.hypot(x, y) >= side:
+            raise ValueError(
+                '%s[%d] = [%g, %g] is %.3f m from the start, more than the '
+                'square\'s side (%g m): a wrong unit (metres) or another run?'
+                % (name, k, x, y, math.hypot(x, y), side))
+    return array
+
+
+Result = namedtuple('Result', 'side wheel_separation cw ccw cg_cw cg_ccw '
+                              'e_max alpha beta ed eb scatter_cw scatter_ccw '
+                              'supported')
+Result.__doc__ = """What UMBmark found: the return errors of each direction
+(arrays of [x, y]), their centres of gravity, E_max,syst (m), alpha and beta
+(rad), Ed and Eb, each cluster's :class:`Scatter`, and whether the data
+support a correction (see the module's docstring)."""
+
+Scatter = namedtuple('Scatter', 'runs sd se distance')
+Scatter.__doc__ = """A cluster's scatter: its number of runs, the standard
+deviation of its return positions about their centre of gravity and the
+standard error of that centre (m; NaN for one run), and the centre's
+distance from zero in standard errors (NaN for one run)."""
+
+
+def critical(runs):
+    """k(runs): the standard errors from zero beyond which a centre of
+    gravity of ``runs`` return positions is not chance (module docstring)."""
+    d = 2.0 * (runs - 1)
+    return math.sqrt(d / 2.0 * ((FALSE_ALARM / 2.0) ** (-2.0 / d) - 1.0))
+
+
+def scatter(errors, cg):
+    """The :class:`Scatter` of the return ``errors`` about ``cg``."""
+    n = len(errors)
+    if n < 2:
+        return Scatter(n, math.nan, math.nan, math.nan)
+    sd = math.sqrt(float(np.sum((errors - cg) ** 2)) / (n - 1))
+    se = sd / math.sqrt(n)
+    distance = math.hypot(*cg)
+    if se == 0.0:  # identical runs (a simulator without noise)
+        return Scatter(n, sd, se, math.inf if distance > 0.0 else 0.0)
+    return Scatter(n, sd, se, distance / se)
+
+
+def runs_needed(result, most=1000):
+    """About how many runs each way would make a systematic error of the
+    size measured stand out from the scatter measured: the fewer of the two
+    clusters'; None when there is no scatter to go by (one run), inf past
+    ``most``."""
+    needed = []
+    for cg, spread in ((result.cg_cw, result.scatter_cw),
+                       (result.cg_ccw, result.scatter_ccw)):
+        if math.isnan(spread.sd):
+            continue
+        ratio = math.hypot(*cg) / spread.sd if spread.sd > 0 else math.inf
+        needed.append(next((n for n in range(2, most + 1)
+                            if ratio * math.sqrt(n) > critical(n)), math.inf))
+    return min(needed) if needed else None
+
+
+def analyse(cw, ccw, side, wheel_separation):
+    """The paper's arithmetic on the return errors of both directions."""
+    cw, ccw = np.asarray(cw, dtype=float), np.asarray(ccw, dtype=float)
+    cg_cw, cg_ccw = cw.mean(axis=0), ccw.mean(axis=0)
+    e_max = max(np.hypot(*cg_cw), np.hypot(*cg_ccw))
+    # The paper's x and y formulas, averaged (see the module's docstring).
+    alpha = ((cg_cw[0] + cg_ccw[0]) + (cg_cw[1] - cg_ccw[1])) / (-8.0 * side)
+    beta = ((cg_cw[0] - cg_ccw[0]) + (cg_cw[1] + cg_ccw[1])) / (-8.0 * side)
+    if beta == 0.0:
+        ed = 1.0
+    else:
+        radius = (side / 2.0) / math.sin(beta / 2.0)
+        half = wheel_separation / 2.0
+        ed = (radius + half) / (radius - half)
+    eb = (math.pi / 2.0) / (math.pi / 2.0 - alpha)
+    scatters = scatter(cw, cg_cw), scatter(ccw, cg_ccw)
+    supported = any(spread.runs > 1 and spread.distance > critical(spread.runs)
+                    for spread in scatters)
+    return Result(side, wheel_separation, cw, ccw, cg_cw, cg_ccw, float(e_max),
+                  float(alpha), float(beta), float(ed), float(eb), *scatters,
+                  supported)
+
+
+def analyse_runs(odometry, measured, runs, side, wheel_separation):
+    """:func:`analyse` of whole benchmark: odometry's and the true return
+    positions of the ``runs`` clockwise runs, then the counter-clockwise."""
+    errors = np.asarray(measured, dtype=float) - np.asarray(odometry, dtype=float)
+    return analyse(errors[:runs], errors[runs:], side, wheel_separation)
+
+
+def corrections(result):
+    """The factors to multiply the driver's settings by.
+
+    diff_drive_controller's three multipliers, and for a driver with only
+    the TurtleBot's two scale corrections, the odom_angular_scale_correction
+    that removes Eb (odometry turns Eb times too far).
+    """
+    ed, eb = result.ed, result.eb
+    return {'left_wheel_radius_multiplier': 2.0 / (ed + 1.0),
+            'right_wheel_radius_multiplier': 2.0 / (1.0 / ed + 1.0),
+            'wheel_separation_multiplier': eb,
+            'odom_angular_scale_correction': 1.0 / eb}
+
+
+def report(result):
+    """The lines that tell the user what was measured and, when the data
+    support it, what to set; else why not and how many runs would do."""
+    lines = []
+    for label, errors in ((CW, result.cw), (CCW, result.ccw)):
+        lines.append('%s return errors (x, y mm): %s' % (label, ', '.join(
+            '(%+.1f, %+.1f)' % (1000 * x, 1000 * y) for x, y in errors)))
+    lines.append('scatter: %s' % '; '.join(
+        '%s %d run%s, %s' % (label, spread.runs, 's' * (spread.runs > 1),
+                             'no scatter measurable' if math.isnan(spread.sd)
+                             else 'standard deviation %.1f mm, centre of '
+                             'gravity +- %.1f mm (standard error), %.1f '
+                             'standard errors from zero' % (
+                                 1000 * spread.sd, 1000 * spread.se,
+                                 spread.distance))
+        for label, spread in ((CW, result.scatter_cw),
+                              (CCW, result.scatter_ccw))))
+    lines += [
+        'centres of gravity: cw (%+.1f, %+.1f) mm, ccw (%+.1f, %+.1f) mm; '
+        'E_max,syst %.1f mm' % (1000 * result.cg_cw[0], 1000 * result.cg_cw[1],
+                                1000 * result.cg_ccw[0],
+                                1000 * result.cg_ccw[1], 1000 * result.e_max),
+        'alpha %+.3f deg (turn error), beta %+.3f deg (curve per side)'
+        % (math.degrees(result.alpha), math.degrees(result.beta)),
+        'Ed (right/left wheel diameter) %.5f, Eb (true/assumed wheel base) %.5f'
+        % (result.ed, result.eb),
+    ]
+    if not result.supported:
+        return lines + [unsupported(result)]
+    lines.append('E_max,syst is beyond the noise (a centre of gravity '
+                 'farther from zero than chance puts it in %g %% of '
+                 'benchmarks): the correction is supported'
+                 % (100 * FALSE_ALARM))
+    factors = corrections(result)
+    lines.append(
+        'diff_drive_controller: multiply left_wheel_radius_multiplier by '
+        '%.5f, right_wheel_radius_multiplier by %.5f, '
+        'wheel_separation_multiplier by %.5f' % (
+            factors['left_wheel_radius_multiplier'],
+            factors['right_wheel_radius_multiplier'],
+            factors['wheel_separation_multiplier']))
+    lines.append(
+        'TurtleBot driver: multiply odom_angular_scale_correction by %.5f '
+        '(removes Eb); Ed needs per-wheel radii, which that driver does not '
+        'have' % factors['odom_angular_scale_correction'])
+    return lines
+
+
+def unsupported(result):
+    """The line saying that the correction is noise, and what would do."""
+    needed = runs_needed(result)
+    runs = min(result.scatter_cw.runs, result.scatter_ccw.runs)
+    if needed is None:
+        more = ('with one run each way no scatter can be measured: run at '
+                'least 2 each way (5 or more is better)')
+    elif math.isinf(needed):
+        more = ('over 1000 runs each way would be needed: no systematic '
+                'error shows against this scatter')
+    else:
+        more = ('about %d runs each way (%d more) would tell a systematic '
+                'error of this size from the scatter' % (
+                    max(needed, runs + 1), max(needed - runs, 1)))
+    return ('E_max,syst %.1f mm is within the noise: neither centre of '
+            'gravity lies farther from zero than chance puts it in %g %% of '
+            'benchmarks (%.1f standard errors for %d runs), so the data do '
+            'not support a correction and none is given (setting one would '
+            'correct noise); %s' % (1000 * result.e_max, 100 * FALSE_ALARM,
+                                    critical(max(runs, 2)), runs, more))
+
+
+def plot(results, path, labels=None):
+    """Draw the return errors, clusters and centres of gravity; save a PNG.
+
+    ``results``: one Result, or several (e.g. before and after correction),
+    drawn on the same axes with ``labels``.
+    """
+    import matplotlib
+    matplotlib.use('Agg')
+    import matplotlib.pyplot as plt
+
+    labels = labels or ['run %d' % (k + 1) for k in range(len(results))]
+    fig, ax = plt.subplots(figsize=(7, 7))
+    colours = {CW: 'tab:blue', CCW: 'tab:red'}
+    for k, (result, label) in enumerate(zip(results, labels)):
+        filled = k == len(results) - 1
+        for direction, errors, cg in ((CW, result.cw, result.cg_cw),
+                                      (CCW, result.ccw, result.cg_ccw)):
+            mm = 1000 * np.asarray(errors)
+            ax.scatter(mm[:, 0], mm[:, 1], s=30, color=colours[direction],
+                       facecolors=colours[direction] if filled else 'none',
+                       label='%s %s runs' % (label, direction))
+            ax.scatter([1000 * cg[0]], [1000 * cg[1]], s=160,
+                       marker='X' if filled else 'P', alpha=1.0 if filled else 0.5,
+                       color=colours[direction], edgecolors='black',
+                       label='%s %s centre of gravity' % (label, direction))
+        ax.add_patch(plt.Circle((0, 0), 1000 * result.e_max, fill=False,
+                                linestyle='--' if filled else ':',
+                                color='grey'))
+    ax.axhline(0, color='lightgrey', zorder=0)
+    ax.axvline(0, color='lightgrey', zorder=0)
+    ax.set_aspect('equal', adjustable='datalim')
+    ax.set_xlabel('x error (mm, forward at the start)')
+    ax.set_ylabel('y error (mm, left at the start)')
+    ax.set_title('UMBmark, %g m square\n%s' % (results[-1].side, '; '.join(
+        '%s E_max,syst %.1f mm' % (label, 1000 * r.e_max)
+        for r, label in zip(results, labels))))
+    ax.legend(fontsize='small', loc='best')
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)

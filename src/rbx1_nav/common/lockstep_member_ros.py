@@ -1,0 +1,275 @@
+"""A lockstep member's ROS side (its rules: rbx1_nav.common.lockstep_member).
+
+Lockstep is on when both ``/use_sim_time`` and ``/lockstep`` are true
+(sim_clock.launch sets them); on a real robot nothing here runs.
+:class:`Member` is a simulator's or a motion node's part: it joins, waits
+for each grant naming it, reports the step handled, and leaves. The owner
+that grants the steps is rbx1_nav.sim_time.lockstep_ros.TimeOwner.
+"""
+import threading
+import time
+
+import rospy
+
+from rbx1_nav.common.lockstep_member import (BACK, HANDLE, LOST_COMMANDS, REPEAT,
+                                             RESEND, SILENT, STALE, CommandLedger,
+                                             Follower)
+from rbx1_nav.common.publish_ros import (from_ns, keep_own_time, publish, sender,
+                                         synchronous_publisher, to_ns)
+from rbx1_nav.msg import LockstepGrant, LockstepReport
+
+# BACK and HANDLE: what Member.wait_grant returns, for its callers.
+__all__ = ['BACK', 'HANDLE', 'GRANT_TOPIC', 'REPORT_TOPIC', 'GRANT_LIMIT',
+           'STATE_LIMIT', 'JoinError', 'Member', 'enabled']
+
+#: Global topics, like /clock: one owner of simulated time per master.
+GRANT_TOPIC = '/lockstep_grant'
+REPORT_TOPIC = '/lockstep_report'
+#: Wall seconds a motion node waits for its next grant before it takes the
+#: clock as gone (more than SILENT: a member stuck elsewhere is dropped by
+#: the owner first).
+GRANT_LIMIT = SILENT + 1.0
+#: Wall seconds a motion node waits for its simulator's state at a tick.
+STATE_LIMIT = 1.0
+
+
+def enabled():
+    """True when this run uses lockstep simulated time."""
+    return bool(rospy.get_param('/use_sim_time', False)
+                and rospy.get_param('/lockstep', False))
+
+
+class JoinError(Exception):
+    """A node could not join the lockstep; the message says why."""
+
+
+class Member(object):
+    """A lockstep member: a simulator (``every_step``) or a motion node.
+
+    A simulator passes the resolved names of its cmd_vel topics in
+    ``cmd_topics`` and counts each command that arrives with
+    :meth:`command_from`; a motion node counts each one it sends with
+    :meth:`sent`. Once it has joined, a simulator takes its ROS time from
+    the grants, not /clock (:func:`keep_own_time`): it is named in every
+    grant, and /clock moves only with them.
+
+    A motion node waits for each of its ticks with :meth:`wait_grant`. A
+    simulator passes ``step``: step(action, time ns) steps to a granted
+    time (action HANDLE or BACK, as wait_grant returns) and returns its
+    next tick (ns); :meth:`serve` then runs it.
+    """
+
+    def __init__(self, every_step=False, cmd_topics=(), step=None):
+        self.name = rospy.get_name()
+        self.every_step = every_step
+        self.step = step
+        self.busy = False       # a step being handled (serve)
+        self.heard = None       # wall time of the last grant or step handled
+        self.failure = None     # what step raised, for serve to raise
+        self.follower = Follower()
+        self.ledger = CommandLedger(cmd_topics)
+        self.sent_counts = {}  # topic -> cmd_vel messages sent (motion node)
+        self.settled = False   # a simulator's first grant handled
+        self.cond = threading.Condition()
+        # Orders the reports (report, leave from a shutdown hook, the
+        # re-sends) apart from self.cond: the next grant can arrive before
+        # the report's send returns (this thread preempted by the owner it
+        # woke), and must not wait for it.
+        self.sending = threading.RLock()
+        self.grant = None       # the newest grant naming this node
+        self.members = set()    # the names in the newest grant seen
+        self.joined = self.left = False
+        self.rejoin = False     # a new owner is there: send the report now
+        self.last = None        # the last report, to send again
+        self.own_time = False   # ROS time set from the grants (a simulator)
+        self.pub = synchronous_publisher(REPORT_TOPIC, LockstepReport)
+        self.sub = rospy.Subscriber(GRANT_TOPIC, LockstepGrant, self._on_grant,
+                                    queue_size=None, tcp_nodelay=True)
+
+    def _on_grant(self, msg):
+        with self.cond:
+            self.members = set(msg.members)
+            named = self.name in self.members
+            if named and self.step is None:
+                self.grant = msg
+                self.cond.notify_all()
+            elif named:
+                self.busy = True
+            elif self.joined and msg.session != self.follower.session:
+                # A new owner (sim_clock restarted): join it at once.
+                self.rejoin = True
+                self.cond.notify_all()
+        if named and self.step is not None:
+            self._handle(msg)
+
+    def _handle(self, grant):
+        """A simulator's step, in the thread that received its grant (see
+        serve): the commands counted, the step, the report."""
+        try:
+            taken = self.failure is None and self._take(grant)
+            if taken:
+                action, time_ns, _ = taken
+                self.wait_commands(grant)
+                self.report(time_ns, self.step(action, time_ns))
+        except Exception as err:  # serve raises it in the node's own thread
+            with self.cond:
+                self.failure = err
+                self.cond.notify_all()
+        self.heard = time.monotonic()
+        self.busy = False  # no notify: a wake-up of serve's thread every step
+
+    def serve(self, limit, silent):
+        """A simulator's loop, until shutdown or an error of ``step`` (raised
+        here). Each step runs in the thread that receives the grants: a
+        hand-off to this one would cost every step a thread woken (tens of
+        microseconds on a virtual machine). Meanwhile this
+        thread sends the last report again every RESEND wall seconds
+        without a grant (at once when a new owner appears) and calls
+        ``silent()`` every ``limit`` s without one."""
+        warn_at = time.monotonic() + limit
+        while not rospy.is_shutdown():
+            with self.cond:
+                self.cond.wait_for(
+                    lambda: self.rejoin or self.failure is not None, RESEND)
+                if self.failure is not None:
+                    raise self.failure
+                rejoin, self.rejoin = self.rejoin, False
+                now = time.monotonic()
+                quiet = not self.busy and now - self.heard > RESEND
+            if rejoin or quiet:
+                self._send_again()
+            if not quiet:
+                warn_at = now + limit
+            elif now > warn_at:
+                warn_at = now + limit
+                silent()
+        deadline = time.monotonic() + LOST_COMMANDS
+        while self.busy and time.monotonic() < deadline:  # a step under way ends
+            rospy.rostime.wallsleep(0.01)                  # before the node does
+
+    def simulators(self):
+        """Names in the newest grant (every simulator is in each)."""
+        with self.cond:
+            return set(self.members)
+
+    def connected(self):
+        """True once the owner takes this node's reports and sends it grants."""
+        return bool(self.pub.get_num_connections() and self.sub.get_num_connections())
+
+    def join(self, wait):
+        """Join the owner's lockstep, waiting up to ``wait`` wall seconds
+        for it to be there; the first grant follows. Raises JoinError."""
+        deadline = time.monotonic() + wait
+        while not self.connected():  # a report sent before would be lost
+            if time.monotonic() > deadline or rospy.is_shutdown():
+                raise JoinError('nothing grants lockstep steps on %s after %.1f s: '
+                                'is sim_clock running (sim_clock.launch)?'
+                                % (GRANT_TOPIC, wait))
+            rospy.rostime.wallsleep(0.01)
+        with self.cond:
+            self.grant = None
+            self.heard = time.monotonic()
+        if self.every_step and not self.own_time:
+            self.own_time = keep_own_time()
+        self.joined, self.left = True, False
+        self.report(self.follower.handled or 0, 0)
+
+    def wait_grant(self, limit=None):
+        """Wait for the next step granted to this node; return (action,
+        time ns, grant): action HANDLE or BACK (rbx1_nav.sim_time.lockstep.Follower).
+        Sends the last report again every RESEND wall seconds without a
+        grant. None after ``limit`` wall seconds without one, or at shutdown.
+        """
+        started = time.monotonic()
+        while not rospy.is_shutdown():
+            with self.cond:
+                self.cond.wait_for(lambda: self.grant is not None or self.rejoin,
+                                   RESEND)
+                grant, self.grant = self.grant, None
+                self.rejoin = False
+            if grant is None:
+                if limit is not None and time.monotonic() - started > limit:
+                    return None
+                self._send_again()
+                continue
+            taken = self._take(grant)
+            if taken:
+                return taken
+        return None
+
+    def _take(self, grant):
+        """(action, time ns, grant) of a grant to handle; None for one
+        already handled (the report goes again) or stale (refused)."""
+        time_ns = to_ns(grant.time)
+        action = self.follower.grant(grant.session, time_ns)
+        if action == REPEAT:
+            self._send_again()
+        elif action == STALE:
+            rospy.logwarn('%s: lockstep grant at %.3f s is before the step '
+                          'already handled (%.3f s): refused', self.name,
+                          time_ns * 1e-9, self.follower.handled * 1e-9)
+        else:
+            if self.own_time:
+                rospy.rostime._set_rostime(grant.time)
+            return action, time_ns, grant
+        return None
+
+    def _send_again(self):
+        with self.sending:
+            if self.joined and self.last is not None:
+                publish(self.pub, self.last)
+
+    def wait_commands(self, grant):
+        """A simulator, before stepping: wait (wall time) until every command
+        counted in ``grant`` has arrived; after LOST_COMMANDS s take the rest
+        as lost, with a warning."""
+        counts = list(zip(grant.cmd_topics, grant.cmd_senders, grant.cmd_counts))
+        deadline = time.monotonic() + LOST_COMMANDS
+        with self.cond:
+            if not self.settled:
+                self.ledger.settle(counts)
+                self.settled = True
+            while self.ledger.missing(counts):
+                if time.monotonic() > deadline:
+                    for topic, name, short in self.ledger.give_up(counts):
+                        rospy.logwarn('%s: %d cmd_vel message(s) from %s on %s lost '
+                                      'on the way; going on without them',
+                                      self.name, short, name, topic)
+                elif rospy.is_shutdown():
+                    return
+                else:
+                    self.cond.wait(0.05)
+
+    def command_from(self, topic, msg):
+        """A simulator: count a command that arrived on ``topic``."""
+        with self.cond:
+            self.ledger.arrived(topic, sender(msg))
+            self.cond.notify_all()
+
+    def sent(self, topic):
+        """A motion node: count a command it published on ``topic``."""
+        self.sent_counts[topic] = self.sent_counts.get(topic, 0) + 1
+
+    def report(self, handled_ns, next_ns, leaving=False):
+        """Handled ``handled_ns``; ``next_ns`` its next tick. After leave()
+        (a shutdown hook, from another thread) none goes out, so a node on
+        its way out cannot join again."""
+        with self.sending:  # not interleaved with leave() from another thread
+            if self.left:
+                return
+            self.follower.handled_step(handled_ns or None)
+            topics = sorted(self.sent_counts)
+            self.last = LockstepReport(
+                handled=from_ns(handled_ns), next=from_ns(next_ns),
+                every_step=self.every_step, leaving=leaving, cmd_topics=topics,
+                cmd_counts=[self.sent_counts[t] for t in topics])
+            publish(self.pub, self.last)
+
+    def leave(self):
+        """Leave the lockstep (a no-op when not a member): the last report
+        carries the commands sent, so the simulator still waits for them."""
+        with self.sending:
+            if not self.joined:
+                return
+            self.report(self.follower.handled or 0, 0, leaving=True)
+            self.joined, self.left = False, True

@@ -1,0 +1,214 @@
+"""Watch the ROS master from a thread of its own; re-register with a new one.
+
+:class:`MasterWatch` asks the master who it is (its process id and
+roslaunch's ``/run_id``) every second and calls back when it stops
+answering, answers again, or turns out to be a different master: a
+restarted roscore, which knows nothing of the nodes registered with the
+old one (see ``rbx1_nav.common.master_watch``). Each poll is its own XML-RPC
+connection with a socket timeout, never rospy's connection to the master,
+which has none: with the master unreachable, the watch waits, never the
+node.
+
+:func:`reregister` tells the new master about every topic and service
+this process has, as rospy does once at start-up. It registers rospy's
+existing publishers and subscribers rather than making new ones, so the
+connections they already have go on (closing a subscriber would drop its
+connection to a publisher that the new master does not know about).
+"""
+import threading
+import xmlrpc.client
+
+import rosgraph
+import rospy
+from rospy.impl.registration import get_service_manager, get_topic_manager
+
+from rbx1_nav.common.master_watch import (BACK, GONE, RESTARTED, MasterStates,
+                                   gone_text, reregistering_text,
+                                   restarted_text)
+
+__all__ = ['MasterWatch', 'proxy', 'topic_graph', 'reregister',
+           'reregister_node', 'gone_text', 'restarted_text']
+
+PERIOD = 1.0  # s between polls
+TIMEOUT = 2.0  # s, socket timeout of each call to the master
+ATTEMPTS = 3  # re-registrations tried after a restart, PERIOD apart
+
+
+class _TimeoutTransport(xmlrpc.client.Transport):
+    """An XML-RPC transport whose connections time out after ``timeout`` s."""
+
+    def __init__(self, timeout):
+        super(_TimeoutTransport, self).__init__()
+        self.timeout = timeout
+
+    def make_connection(self, host):
+        connection = super(_TimeoutTransport, self).make_connection(host)
+        connection.timeout = self.timeout  # used by connect(), for every call
+        return connection
+
+
+def proxy(uri, timeout=TIMEOUT):
+    """An XML-RPC proxy to ``uri`` whose calls time out after ``timeout`` s."""
+    return xmlrpc.client.ServerProxy(uri, transport=_TimeoutTransport(timeout))
+
+
+def _value(reply, what):
+    """The value of a ROS XML-RPC reply [code, message, value]."""
+    code, message, value = reply
+    if code != 1:
+        raise RuntimeError('%s: %s' % (what, message))
+    return value
+
+
+def topic_graph(timeout=TIMEOUT):
+    """The master's topics as ``(publishers, subscribers, types)``, dicts
+    by topic name (of node lists, of type names); None when the master
+    cannot tell (unreachable within ``timeout`` s, an error): a caller
+    that only suggests or warns goes on without it."""
+    caller_id = rospy.get_caller_id()
+    try:
+        with proxy(rosgraph.get_master_uri(), timeout) as master:
+            state = _value(master.getSystemState(caller_id), 'getSystemState')
+            types = _value(master.getTopicTypes(caller_id), 'getTopicTypes')
+    except Exception:  # refused, timed out, reset, bad reply
+        return None
+    return dict(state[0]), dict(state[1]), dict(types)
+
+
+def master_identity(uri, caller_id, timeout=TIMEOUT):
+    """(pid, run_id) of the master at ``uri``; raises if it does not answer.
+
+    The pid alone could repeat (a master restarted in a container often
+    gets the same one); roscore's ``/run_id`` is new on every start. A
+    bare rosmaster has no ``/run_id``: then the pid alone.
+    """
+    with proxy(uri, timeout) as master:
+        pid = _value(master.getPid(caller_id), 'getPid')
+        code, _, run_id = master.getParam(caller_id, '/run_id')
+    return pid, (run_id if code == 1 else None)
+
+
+def _problem(err):
+    """A short reason a call to the master failed."""
+    return getattr(err, 'strerror', None) or str(err) or type(err).__name__
+
+
+class MasterWatch(object):
+    """Polls the master every ``period`` s from a daemon thread.
+
+    ``on_gone(uri, problem)`` after GONE_AFTER failed polls in a row,
+    ``on_back(uri)`` when the same master answers again,
+    ``on_restarted(uri)`` when a different master answers. The callbacks
+    run in the watch thread; those not given are not called (use
+    gone_text and restarted_text for what to say). ``name`` starts the
+    log line when a callback fails.
+    """
+
+    def __init__(self, name, on_gone=None, on_back=None, on_restarted=None,
+                 period=PERIOD, timeout=TIMEOUT):
+        self.name = name
+        self.callbacks = {GONE: on_gone, BACK: on_back, RESTARTED: on_restarted}
+        self.period, self.timeout = period, timeout
+        self.uri = rosgraph.get_master_uri()
+        self.states = MasterStates()
+        self._stop = threading.Event()
+        self._thread = None
+
+    def start(self):
+        """Start polling (once; later calls do nothing); call it right
+        after init_node, so the first poll sees the master the node
+        registered with."""
+        if self._thread is None:
+            self._thread = threading.Thread(target=self._run, daemon=True,
+                                            name='master_watch')
+            self._thread.start()
+        return self
+
+    def stop(self):
+        """Stop polling after the current poll."""
+        self._stop.set()
+
+    def poll(self):
+        """One poll: returns the event (and calls its callback)."""
+        try:
+            identity, problem = master_identity(
+                self.uri, rospy.get_caller_id(), self.timeout), None
+        except Exception as err:  # refused, timed out, reset, bad reply
+            identity, problem = None, _problem(err)
+        event = self.states.observe(identity)
+        callback = self.callbacks.get(event)
+        if callback is not None:
+            args = (self.uri, problem) if event == GONE else (self.uri,)
+            try:
+                callback(*args)
+            except Exception as err:  # keep watching
+                rospy.logerr('%s: handling the master %s failed: %s',
+                             self.name, event, err)
+        return event
+
+    def _run(self):
+        # The first poll at once: it names the master the node registered
+        # with. Event.wait: wall time, which a paused simulated clock
+        # does not stop.
+        while not rospy.is_shutdown():
+            self.poll()
+            if self._stop.wait(self.period):
+                break
+
+
+def reregister(timeout=TIMEOUT):
+    """Register this process's topics and services with the master.
+
+    Returns how many topics and services. Subscribers are told the
+    publishers the master knows, as at start-up, and connect to those they
+    are not connected to yet. Raises if the master does not answer.
+    """
+    uri, node_uri = rosgraph.get_master_uri(), rospy.get_node_uri()
+    caller_id = rospy.get_caller_id()
+    topics = get_topic_manager()
+    # The lock keeps the lists still; a registration stuck on an
+    # unreachable master holds it, hence the timeout.
+    if not topics.lock.acquire(timeout=timeout):
+        raise RuntimeError('rospy is busy registering a topic')
+    try:
+        publications = topics.get_publications()
+        subscriptions = topics.get_subscriptions()
+    finally:
+        topics.lock.release()
+    services = get_service_manager().get_services()
+    with proxy(uri, timeout) as master, proxy(node_uri, timeout) as node:
+        for topic, msg_type in publications:
+            _value(master.registerPublisher(caller_id, topic, msg_type, node_uri),
+                   'registerPublisher ' + topic)
+        for topic, msg_type in subscriptions:
+            publishers = _value(master.registerSubscriber(
+                caller_id, topic, msg_type, node_uri), 'registerSubscriber ' + topic)
+            if publishers:  # as the master would: our own slave API
+                node.publisherUpdate('/master', topic, publishers)
+        for service, service_uri in services:
+            _value(master.registerService(caller_id, service, service_uri,
+                                          node_uri), 'registerService ' + service)
+    return len(publications) + len(subscriptions), len(services)
+
+
+def reregister_node(name, uri, attempts=ATTEMPTS, pause=PERIOD):
+    """An ``on_restarted`` for a long-running node: say what happened,
+    re-register (``attempts`` times, ``pause`` s apart, should the new
+    master stop answering), and say how it went."""
+    rospy.logwarn(reregistering_text(name, uri))
+    problem = None
+    for attempt in range(attempts):
+        try:
+            topics, services = reregister()
+        except Exception as err:
+            problem = _problem(err)
+            if attempt + 1 < attempts:
+                rospy.rostime.wallsleep(pause)
+            continue
+        rospy.loginfo('%s: re-registered %d topics and %d services with the '
+                      'new master at %s', name, topics, services, uri)
+        return True
+    rospy.logwarn('%s: could not re-register with the master at %s (%s): new '
+                  'nodes cannot find this node\'s topics. Fix: restart this '
+                  'node', name, uri, problem)
+    return False

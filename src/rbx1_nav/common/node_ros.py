@@ -1,0 +1,176 @@
+"""Start-up and shutdown shared by every node of the package.
+
+:func:`start_node` answers ``--help`` without a master, says so while it
+waits for one, starts rospy with signal handling that cannot deadlock,
+keeps log calls off the master, waits for the first /clock under simulated
+time, reads and checks the node's declared private parameters
+(rbx1_nav.common.params.Param), warns about private parameters it does not know
+(naming the nearest known one), logs the values it uses and names those
+left on the parameter server by an earlier run (params.leftovers).
+:func:`until_shutdown` runs a node's main loop; :func:`exit_node` is a
+node's last line.
+"""
+import os
+import signal
+import sys
+import threading
+import time
+
+import rosgraph
+import rospy
+
+from rbx1_nav.common import params
+from rbx1_nav.common.ros_time import no_clock_text
+
+
+def _shutdown_on_signal(signum, frame):
+    """SIGINT/SIGTERM: shut rospy down from another thread.
+
+    rospy's own handler calls signal_shutdown in the main thread, inside
+    whatever that thread was doing; during a call to the master (a
+    set_param, say) it then waits for the master connection's lock that the
+    interrupted call holds, and the node hangs. From a thread of its own,
+    the shutdown waits for the call to finish instead.
+    """
+    threading.Thread(target=rospy.signal_shutdown, daemon=True,
+                     args=('signal %d' % signum,)).start()
+
+
+def exit_if_help(specs, doc):
+    """Print usage (``doc``, the node's docstring, and ``specs``) and exit 0
+    if the command line asks for help."""
+    if any(arg in ('-h', '--help') for arg in sys.argv[1:]):
+        print(params.usage(doc, specs))
+        raise SystemExit(0)
+
+
+ROSOUT_SETTING = '/rosout_disable_topics_generation'
+
+
+def cache_rosout_setting():
+    """Keep log calls off the master.
+
+    rospy's rosout handler reads ROSOUT_SETTING on every log call, and an
+    unset parameter is never cached: each log line is a round trip to the
+    master, slow when the master is busy (and a hang when it is gone). Set
+    to rospy's own default, the value is cached after the first read.
+    """
+    if not rospy.has_param(ROSOUT_SETTING):
+        rospy.set_param(ROSOUT_SETTING, False)
+
+
+#: Wall seconds a node waits for the first /clock before it says that none comes.
+CLOCK_WAIT = 5.0
+
+
+def wait_for_clock(limit=CLOCK_WAIT):
+    """Under /use_sim_time, wait up to ``limit`` wall seconds for the first
+    /clock, so the start-up line and the node's start carry real stamps
+    (ROS time is 0 until then). False if it did not come."""
+    if not rospy.get_param('/use_sim_time', False):
+        return True
+    deadline = time.monotonic() + limit
+    while (rospy.Time.now().is_zero() and time.monotonic() < deadline
+           and not rospy.is_shutdown()):
+        rospy.rostime.wallsleep(0.01)
+    return not rospy.Time.now().is_zero()
+
+
+def wait_for_master(name):
+    """Say so, once, while there is no master; Ctrl-C exits with status 1."""
+    if rosgraph.is_master_online():
+        return
+    sys.stderr.write('%s: waiting for the ROS master at %s: start roscore, or '
+                     'check ROS_MASTER_URI (Ctrl-C to give up)\n'
+                     % (name, rosgraph.get_master_uri()))
+    try:
+        while not rosgraph.is_master_online():
+            rospy.rostime.wallsleep(0.5)
+    except KeyboardInterrupt:
+        raise SystemExit(1)
+
+
+def read_params(specs):
+    """Values of the node's private parameters ``specs``.
+
+    Raises ValueError naming every unusable value and the command that
+    clears each from the parameter server.
+    """
+    return params.check_all(
+        specs, lambda name, default: rospy.get_param('~' + name, default),
+        rospy.get_name())
+
+
+def warn_unknown(name, specs):
+    """One warning per private parameter on the server that no spec declares."""
+    given = rospy.get_param('~', {})
+    for unknown, nearest in params.unknown(given if isinstance(given, dict)
+                                           else {}, specs):
+        rospy.logwarn('%s: unknown parameter ~%s is ignored%s', name, unknown,
+                      ' (did you mean ~%s?)' % nearest if nearest else '')
+
+
+def start_node(name, specs, doc, clock=True):
+    """--help (``doc`` and ``specs``), init_node, then read and log ``specs``.
+
+    ``clock`` false skips the wait for the first /clock: for the node that
+    publishes it.
+
+    Returns the values, or None (logged, with how to clear a bad value) if
+    any is unusable.
+    """
+    exit_if_help(specs, doc)
+    wait_for_master(name)
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, _shutdown_on_signal)
+    rospy.init_node(name, disable_signals=True)
+    cache_rosout_setting()
+    if clock and not wait_for_clock(CLOCK_WAIT):
+        rospy.logwarn('%s: %s; waiting for it', name, no_clock_text(CLOCK_WAIT))
+    warn_unknown(name, specs)
+    try:
+        values = read_params(specs)
+    except ValueError as err:
+        rospy.logerr('%s: bad parameters, not moving: %s', name, err)
+        return None
+    rospy.loginfo('%s: %s', name, params.describe(specs, values))
+    old = params.leftovers(specs, values, sys.argv, rospy.get_name())
+    if old:
+        rospy.logwarn('%s: %s', name, old)
+    return values
+
+
+def until_shutdown(loop):
+    """Run a node's main ``loop``; a publish that shutdown closed under it
+    (a signal shuts rospy down in another thread) ends it quietly."""
+    try:
+        loop()
+    except rospy.ROSException:
+        if not rospy.core.is_shutdown_requested():
+            raise
+
+
+#: Wall seconds rospy's shutdown may take (it unregisters from the master)
+#: before the node exits without it.
+SHUTDOWN_LIMIT = 1.0
+
+
+def exit_node(name, status):
+    """Shut rospy down and exit with ``status`` (the last line of a node).
+
+    Shutdown hooks run first (a motion node's stop goes out); rospy then
+    unregisters from the master over a connection without a timeout, which
+    hangs for minutes when the master is unreachable. After SHUTDOWN_LIMIT
+    wall seconds the node exits anyway; the master drops it when it next
+    fails to reach it.
+    """
+    done = threading.Thread(target=rospy.signal_shutdown, daemon=True,
+                            args=('%s finished' % name,))
+    done.start()
+    done.join(SHUTDOWN_LIMIT)
+    if done.is_alive():
+        sys.stderr.write('%s: the master at %s does not answer; exiting without '
+                         'unregistering\n' % (name, rosgraph.get_master_uri()))
+        sys.stderr.flush()
+        os._exit(status)
+    raise SystemExit(status)

@@ -1,0 +1,67 @@
+"""Publishing helpers shared by every node that keeps time under lockstep:
+ROS times as integer nanoseconds, a message's sender, a publisher that
+writes before publish() returns, a publish that is quiet once rospy shuts
+down, and a node's ROS time kept by the node itself.
+"""
+import warnings
+
+import rospy
+import rospy.impl.simtime
+
+__all__ = ['from_ns', 'keep_own_time', 'publish', 'sender',
+           'synchronous_publisher', 'to_ns']
+
+
+def to_ns(stamp):
+    """rospy.Time -> integer nanoseconds."""
+    return stamp.secs * 1000000000 + stamp.nsecs
+
+
+def from_ns(ns):
+    """Integer nanoseconds -> rospy.Time."""
+    return rospy.Time(*divmod(int(ns), 1000000000))
+
+
+def sender(msg):
+    """The node name that published ``msg`` (rospy keeps it per message)."""
+    return msg._connection_header['callerid']
+
+
+def synchronous_publisher(topic, msg_class, **kwargs):
+    """A publisher that writes each message before publish() returns, with
+    no Nagle delay: lockstep waits for every message, so a hand-off to
+    rospy's queue thread would only add latency to each step."""
+    with warnings.catch_warnings():  # queue_size None is the point here
+        warnings.simplefilter('ignore', SyntaxWarning)
+        return rospy.Publisher(topic, msg_class, queue_size=None,
+                               tcp_nodelay=True, **kwargs)
+
+
+def publish(pub, msg):
+    """Publish; False once rospy has closed its topics (shutting down)."""
+    try:
+        pub.publish(msg)
+        return True
+    except rospy.ROSException:
+        if not rospy.core.is_shutdown_requested():
+            raise
+        return False
+
+
+def keep_own_time():
+    """Stop hearing /clock: from now on this node sets its ROS time itself
+    (rospy.rostime._set_rostime, what rospy's /clock callback calls).
+
+    Under /use_sim_time rospy subscribes every node to /clock. The node
+    that publishes it, and a simulator, granted every step /clock carries,
+    know each time before /clock tells them; hearing it again costs the
+    publisher a socket write and the node a thread woken, which takes the
+    GIL from the stepping thread, at every step. True if rospy's /clock
+    subscription was there and is gone (otherwise /clock still sets the
+    time, and a node setting it too does no harm)."""
+    sub = getattr(rospy.impl.simtime, '_clock_sub', None)
+    if sub is None:
+        return False
+    rospy.impl.simtime._clock_sub = None
+    sub.unregister()
+    return True

@@ -1,0 +1,504 @@
+"""Kinematic differential-drive robot: the model behind nodes/fake_turtlebot.py.
+
+A stand-in for the ArbotiX fake robot of *ROS By Example*, with what that one
+lacks: a command watchdog, speed and acceleration limits, exact arc
+integration, non-zero covariances and an optional "realistic" mode in which
+odometry drifts from the truth the way an uncalibrated robot's does.
+
+Three views of the same motion are kept apart:
+
+* **truth** - where the robot really is (integrated from the velocity the
+  base actually executes, after watchdog, clamping and acceleration limits);
+* **wheels** - what the encoders read: the true wheel travel plus optional
+  noise (``encoder_noise``);
+* **odometry** - the pose the robot's driver computes from the encoder
+  readings; scaled by ``*_scale_error`` (a miscalibrated robot) and then by
+  ``odom_*_scale_correction`` (the driver's calibration parameters);
+* a **gyro** measures the true yaw rate plus bias and noise, independent of
+  the odometry errors.
+
+The model steps a whole fleet at once: :class:`DiffDriveFleet` holds N
+robots of one configuration in numpy arrays (one row per robot), so N robots
+cost one array operation per step (nodes/fake_fleet.py); a
+:class:`FleetRobot` reads one robot's row as scalars. :class:`DiffDriveSim`,
+the single robot of nodes/fake_turtlebot.py, is a fleet of one read that way.
+
+Time is plain float seconds supplied by the caller (the node passes ROS time),
+so the model behaves identically at any simulation speed. No rospy here.
+"""
+import math
+from collections import deque
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from rbx1_nav.common.params import integer, number
+from rbx1_nav.transform_utils import Pose2D
+
+__all__ = ['DiffDriveConfig', 'DiffDriveSim', 'DiffDriveFleet', 'FleetRobot',
+           'arc_steps', 'columns', 'wrap_angles', 'covariance_from_diagonal',
+           'DEFAULT_COVARIANCE_DIAGONAL', 'CONFIG_LIMITS']
+
+# x, y, z, roll, pitch, yaw. A planar base observes only x, y and yaw; the
+# large values for the rest follow the TurtleBot driver's convention.
+DEFAULT_COVARIANCE_DIAGONAL = (1e-3, 1e-3, 1e6, 1e6, 1e6, 1e-3)
+
+
+
+def wrap_angles(angles):
+    """``angles`` (rad, an array) wrapped to [-pi, pi], as math.remainder does."""
+    angles = np.asarray(angles, dtype=float)
+    return angles - 2.0 * math.pi * np.rint(angles / (2.0 * math.pi))
+
+
+def columns(*arrays):
+    """An (N, len(arrays)) array of the N-arrays ``arrays`` as its columns
+    (what np.column_stack does, at a fraction of its cost for a few robots)."""
+    out = np.empty((len(arrays[0]), len(arrays)))
+    for i, column in enumerate(arrays):
+        out[:, i] = column
+    return out
+
+
+def arc_steps(poses, ds, dtheta):
+    """The poses (an (N, 3) array of x, y, yaw) after travelling ``ds``
+    metres while turning ``dtheta`` rad (arrays of N): the array form of
+    rbx1_nav.common.geometry.arc_step.
+
+    The path is a circular arc (a straight line when ``dtheta`` is 0), which
+    is what a differential drive traces at constant (v, w): exact, unlike
+    forward Euler. The chord of the arc is ``ds * sin(dtheta/2)/(dtheta/2)``
+    and points along the mean heading; numpy's sinc keeps that well defined
+    at ``dtheta == 0``.
+    """
+    half = 0.5 * dtheta
+    straight = half == 0.0
+    half_or_one = np.where(straight, 1.0, half)
+    chord = ds * np.where(straight, 1.0, np.sin(half_or_one) / half_or_one)
+    heading = poses[:, 2] + half
+    return columns(poses[:, 0] + chord * np.cos(heading),
+                    poses[:, 1] + chord * np.sin(heading),
+                    wrap_angles(poses[:, 2] + dtheta))
+
+
+def covariance_from_diagonal(diagonal):
+    """Row-major 6x6 covariance (a list of 36 floats) with ``diagonal``.
+
+    Raises ValueError unless ``diagonal`` holds six finite positive numbers:
+    a zero variance claims perfect knowledge, which makes filters such as
+    robot_pose_ekf reject the message.
+    """
+    diag = np.asarray(diagonal, dtype=float)
+    if diag.shape != (6,) or not np.all(np.isfinite(diag)) or np.any(diag <= 0):
+        raise ValueError('a covariance diagonal needs six finite positive '
+                         'variances, got %r' % (diagonal,))
+    return np.diag(diag).ravel().tolist()
+
+
+@dataclass
+class DiffDriveConfig:
+    """Parameters of the simulated base; defaults are an ideal TurtleBot.
+
+    Every field is a private parameter of the node with the same name.
+    """
+    wheel_separation: float = 0.26      # m, between the wheel contact points
+    wheel_radius: float = 0.033         # m
+    max_linear_speed: float = 0.5       # m/s, larger commands are clamped
+    max_angular_speed: float = 3.0      # rad/s
+    accel_limit_linear: float = 0.0     # m/s^2, 0 = unlimited
+    accel_limit_angular: float = 0.0    # rad/s^2, 0 = unlimited
+    cmd_timeout: float = 0.5            # s without cmd_vel before stopping
+    command_latency: float = 0.0        # s between receipt and execution
+    linear_scale_error: float = 1.0     # odometry distance / true distance
+    angular_scale_error: float = 1.0    # odometry rotation / true rotation
+    odom_linear_scale_correction: float = 1.0   # driver calibration factor
+    odom_angular_scale_correction: float = 1.0  # driver calibration factor
+    left_wheel_radius_error: float = 1.0    # true radius / nominal radius
+    right_wheel_radius_error: float = 1.0   # true radius / nominal radius
+    # The driver-side corrections under diff_drive_controller's names:
+    left_wheel_radius_multiplier: float = 1.0
+    right_wheel_radius_multiplier: float = 1.0
+    wheel_separation_multiplier: float = 1.0
+    encoder_noise: float = 0.0          # m per sqrt(m) of wheel travel (1 sigma)
+    gyro_noise_density: float = 0.0     # rad/s/sqrt(Hz) white rate noise
+    gyro_bias: float = 0.0              # rad/s constant rate offset
+    seed: int = None                    # None: fresh random noise each run
+
+    def problems(self):
+        """Human-readable list of invalid values; empty when all are usable.
+
+        Every number must be an int or float within :data:`CONFIG_LIMITS`
+        (the bounds keep the model's arithmetic finite); ``seed`` must be
+        None or an int >= 0.
+        """
+        found = []
+        for name, (low, high, allow_zero) in self.limits().items():
+            value = getattr(self, name)
+            try:
+                if isinstance(value, bool) or not isinstance(value, (int, float)):
+                    raise ValueError('%s must be a number, got %r' % (name, value))
+                number(name, value, low, high, allow_zero)
+            except ValueError as err:
+                found.append(str(err))
+        seed = self.seed
+        if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int)
+                                 or seed < 0):
+            found.append('seed must be an integer >= 0, got %r' % (seed,))
+        return found
+
+    @classmethod
+    def from_params(cls, raw, prefix=''):
+        """A config from raw parameter values, e.g. as rospy.get_param returns.
+
+        ``raw`` maps field names to values; missing fields keep their
+        defaults. Numbers may be numeric strings (YAML reads 1e6 as one).
+        Raises ValueError naming every bad value as ``prefix + name``.
+        """
+        values, found = {}, []
+        limits = cls.limits()
+        for name, value in raw.items():
+            if name not in limits and name not in cls.OTHER_FIELDS:
+                raise ValueError('%s%s is not a fake robot parameter' % (prefix, name))
+            try:
+                if name == 'seed':
+                    values[name] = (None if value is None
+                                    else integer(prefix + name, value, minimum=0))
+                elif name in limits:
+                    values[name] = number(prefix + name, value, *limits[name])
+                else:
+                    values[name] = cls.OTHER_FIELDS[name](prefix + name, value)
+            except ValueError as err:
+                found.append(str(err))
+        if found:
+            raise ValueError('; '.join(found))
+        return cls(**values)
+
+    @classmethod
+    def names(cls):
+        """Names of all parameters, in declaration order."""
+        return [f.name for f in fields(cls)]
+
+    #: The fields that are not numbers, each with its check (as
+    #: rbx1_nav.common.params' checks take a name and a value); seed is read apart.
+    OTHER_FIELDS = {'seed': None}
+
+    @classmethod
+    def limits(cls):
+        """(minimum, maximum, allow_zero) of each numeric field."""
+        return CONFIG_LIMITS
+
+
+#: (minimum, maximum, allow_zero) of each numeric DiffDriveConfig field, for
+#: :func:`rbx1_nav.common.params.number`. The maxima are far beyond any real base
+#: but keep the model's arithmetic finite (no inf pose, no endless loop).
+CONFIG_LIMITS = {
+    'wheel_separation': (1e-3, 10.0, False),        # m
+    'wheel_radius': (1e-3, 10.0, False),            # m
+    'max_linear_speed': (0.0, 100.0, False),        # m/s
+    'max_angular_speed': (0.0, 100.0, False),       # rad/s
+    'accel_limit_linear': (0.0, 1e6, True),         # m/s^2, 0 = unlimited
+    'accel_limit_angular': (0.0, 1e6, True),        # rad/s^2, 0 = unlimited
+    'cmd_timeout': (0.0, 1e6, False),               # s
+    'command_latency': (0.0, 60.0, True),           # s
+    'linear_scale_error': (0.0, 100.0, False),
+    'angular_scale_error': (0.0, 100.0, False),
+    'odom_linear_scale_correction': (0.0, 100.0, False),
+    'odom_angular_scale_correction': (0.0, 100.0, False),
+    'left_wheel_radius_error': (0.0, 100.0, False),
+    'right_wheel_radius_error': (0.0, 100.0, False),
+    'left_wheel_radius_multiplier': (0.0, 100.0, False),
+    'right_wheel_radius_multiplier': (0.0, 100.0, False),
+    'wheel_separation_multiplier': (0.0, 100.0, False),
+    'encoder_noise': (0.0, 1.0, True),              # m/sqrt(m)
+    'gyro_noise_density': (0.0, 10.0, True),        # rad/s/sqrt(Hz)
+    'gyro_bias': (-10.0, 10.0, True),               # rad/s
+}
+
+
+def _max_change(accel_limit, dt):
+    """Largest speed change allowed in ``dt`` s; unbounded for a 0 limit."""
+    return accel_limit * dt if accel_limit > 0 else float('inf')
+
+
+def _approach(current, target, max_change):
+    """``target``, or ``current`` moved toward it by at most ``max_change``
+    (arrays of N speeds).
+
+    The result never passes ``target``, not even by a rounding error, so a
+    speed at its limit stays within it.
+    """
+    if max_change == float('inf'):
+        return target
+    moved = current + np.copysign(max_change, target - current)
+    moved = np.minimum(np.maximum(moved, np.minimum(current, target)),
+                       np.maximum(current, target))
+    return np.where(np.abs(target - current) <= max_change, target, moved)
+
+
+class DiffDriveFleet:
+    """N simulated bases of one configuration: feed them commands and
+    times, read their state (row i is robot i).
+
+    Call :meth:`command` for every cmd_vel of robot i and :meth:`step` at the
+    control rate: every robot steps at the same times. Each step holds one
+    velocity per robot over the interval since the previous step
+    (zero-order hold), chosen from the robot's newest command executable by
+    the step's time, so a command takes effect within one step of arriving
+    and the watchdog stops a robot within ``cmd_timeout`` plus one step of
+    its last command.
+
+    State, arrays with one row per robot: ``truth`` and ``odom`` (N, 3: x,
+    y, yaw), ``velocity`` and ``odom_velocity`` (N, 2: v, w),
+    ``wheel_angles`` and ``wheel_velocities`` (N, 2: left, right),
+    ``gyro_rate`` and ``gyro_yaw`` (N), ``timed_out`` (N, bool). The noise
+    of all robots comes from one generator seeded by ``config.seed``, drawn
+    for the whole fleet each step.
+    """
+
+    def __init__(self, size, config=None):
+        self.config = config or DiffDriveConfig()
+        problems = self.config.problems()
+        if problems:
+            raise ValueError('invalid fake robot parameters: ' + '; '.join(problems))
+        if isinstance(size, bool) or not isinstance(size, int) or size < 1:
+            raise ValueError('a fleet needs at least one robot, got %r' % (size,))
+        self.size = size
+        self._rng = np.random.default_rng(self.config.seed)
+        # Per robot: (executable at, v, w) in arrival order.
+        self._pending = [deque() for _ in range(size)]
+        self._cmd = np.zeros((size, 2))
+        self._cmd_time = np.full(size, -np.inf)  # when the executing command became due
+        self._time = None
+        self.timed_out = np.zeros(size, dtype=bool)  # True while the watchdog holds a base
+        self._truth = np.zeros((size, 3))
+        self.odom = np.zeros((size, 3))
+        self._commanded = np.zeros((size, 2))  # (v, w) executed over the last step
+        self._velocity = np.zeros((size, 2))       # true (v, w) over the last step
+        self.odom_velocity = np.zeros((size, 2))
+        self.wheel_angles = np.zeros((size, 2))      # encoder readings, rad
+        self.wheel_velocities = np.zeros((size, 2))  # rad/s over the last step
+        self.gyro_rate = np.zeros(size)            # rad/s, measured
+        self.gyro_yaw = np.zeros(size)             # rad, integral of the measured rate
+
+    @property
+    def truth(self):
+        """(N, 3): where the bases really are (x, y, yaw)."""
+        return self._truth
+
+    @property
+    def velocity(self):
+        """(N, 2): the (v, w) the bases really moved at over the last step."""
+        return self._velocity
+
+    def robot(self, index):
+        """Robot ``index`` read as scalars: a :class:`FleetRobot`."""
+        return FleetRobot(self, index)
+
+    def command(self, robot, v, w, stamp):
+        """Queue a velocity command for robot ``robot`` received at ``stamp`` s.
+
+        Returns None for a usable command, ``'non-finite'`` when v or w is NaN
+        or infinite (the command is replaced by a stop) or ``'clamped'`` when
+        a speed exceeded its limit (it is executed at the limit).
+        """
+        cfg = self.config
+        v, w = float(v), float(w)
+        due = stamp + cfg.command_latency
+        if not (math.isfinite(v) and math.isfinite(w)):
+            self._pending[robot].append((due, 0.0, 0.0))
+            return 'non-finite'
+        cv = max(-cfg.max_linear_speed, min(cfg.max_linear_speed, v))
+        cw = max(-cfg.max_angular_speed, min(cfg.max_angular_speed, w))
+        self._pending[robot].append((due, cv, cw))
+        return 'clamped' if (cv, cw) != (v, w) else None
+
+    def step(self, now):
+        """Advance every robot to ``now`` seconds; True if time advanced.
+
+        The first call only sets the clock. A call with a time at or before
+        the previous one integrates nothing; time moving backwards (a
+        restarted simulation clock) re-bases the clock there and drops the
+        commands received so far, which stops the bases until their next one.
+        """
+        dt = self._advance_clock(now)
+        if dt is None:
+            return False
+        v, w = self._execute(now, dt)
+        self._commanded = columns(v, w)
+        self._move(v, w, dt)
+        return True
+
+    def _advance_clock(self, now):
+        """The seconds from the previous step to ``now``; None when time did
+        not advance (see :meth:`step`)."""
+        if self._time is None or now < self._time:
+            if self._time is not None:  # restarted clock: forget old commands
+                for queue in self._pending:
+                    queue.clear()
+                self._cmd_time[:] = -np.inf
+            self._time = now
+            return None
+        dt = now - self._time
+        if dt == 0.0:
+            return None
+        self._time = now
+        return dt
+
+    def _move(self, v, w, dt):
+        """The bases execute (v, w) exactly for ``dt`` s: truth, wheels,
+        odometry and gyro follow."""
+        self._velocity = columns(v, w)
+        self._truth = arc_steps(self._truth, v * dt, w * dt)
+        self._update_wheels_and_odometry(v, w, dt)
+        self._update_gyro(w, dt)
+
+    def _execute(self, now, dt):
+        """The (v, w) arrays the bases execute over the step ending at ``now``."""
+        cfg = self.config
+        for robot, queue in enumerate(self._pending):
+            while queue and queue[0][0] <= now:
+                self._cmd_time[robot], v, w = queue.popleft()
+                self._cmd[robot] = (v, w)
+        # A robot that never had a command (time -inf) is timed out too.
+        self.timed_out = now - self._cmd_time > cfg.cmd_timeout
+        target = np.where(self.timed_out[:, None], 0.0, self._cmd)
+        return (_approach(self._commanded[:, 0], target[:, 0],
+                          _max_change(cfg.accel_limit_linear, dt)),
+                _approach(self._commanded[:, 1], target[:, 1],
+                          _max_change(cfg.accel_limit_angular, dt)))
+
+    def _update_wheels_and_odometry(self, v, w, dt):
+        """Encoder readings from the true motion, then odometry from them.
+
+        A wheel whose true radius is ``*_wheel_radius_error`` times the
+        nominal one turns that much less for the same ground travel; the
+        driver turns each wheel's angle back into travel with the nominal
+        radius times its ``*_wheel_radius_multiplier``, and the turn with
+        the wheel separation times ``wheel_separation_multiplier``.
+        """
+        cfg = self.config
+        half_track = 0.5 * cfg.wheel_separation
+        travel = columns(v - w * half_track, v + w * half_track) * dt
+        if cfg.encoder_noise > 0:
+            # Variance grows with distance travelled, not with the step count.
+            travel += (cfg.encoder_noise * np.sqrt(np.abs(travel))
+                       * self._rng.standard_normal(travel.shape))
+        turned = travel / np.array([cfg.left_wheel_radius_error,
+                                    cfg.right_wheel_radius_error])
+        self._update_odometry(turned / cfg.wheel_radius, dt)
+
+    def _update_odometry(self, angles, dt):
+        """The driver's odometry from the encoders' wheel ``angles`` (rad,
+        (N, 2): left, right) turned over the last ``dt`` s."""
+        cfg = self.config
+        self.wheel_angles += angles
+        self.wheel_velocities = angles / dt
+        wheels = angles * cfg.wheel_radius * np.array(
+            [cfg.left_wheel_radius_multiplier, cfg.right_wheel_radius_multiplier])
+        left, right = wheels[:, 0], wheels[:, 1]
+        ds = (0.5 * (left + right) * cfg.linear_scale_error
+              * cfg.odom_linear_scale_correction)
+        dtheta = ((right - left)
+                  / (cfg.wheel_separation * cfg.wheel_separation_multiplier)
+                  * cfg.angular_scale_error * cfg.odom_angular_scale_correction)
+        self.odom = arc_steps(self.odom, ds, dtheta)
+        self.odom_velocity = columns(ds / dt, dtheta / dt)
+
+    def _update_gyro(self, w, dt):
+        """A z-axis gyro per robot: true yaw rate + bias + white noise, integrated."""
+        cfg = self.config
+        rate = w + cfg.gyro_bias
+        if cfg.gyro_noise_density > 0:
+            rate = rate + (cfg.gyro_noise_density / math.sqrt(dt)
+                           * self._rng.standard_normal(self.size))
+        self.gyro_rate = rate
+        self.gyro_yaw = wrap_angles(self.gyro_yaw + rate * dt)
+
+    def gyro_variances(self, period):
+        """(yaw, yaw rate) variances to report for the gyro at ``period`` s.
+
+        The rate variance is that of one reading plus the bias squared; the
+        yaw variance is the error the integrated yaw gathers in one second.
+        Both have a small floor so they are never zero.
+        """
+        cfg = self.config
+        rate_var = cfg.gyro_noise_density ** 2 / period + cfg.gyro_bias ** 2
+        yaw_var = cfg.gyro_noise_density ** 2 * 1.0 + cfg.gyro_bias ** 2
+        return max(yaw_var, 1e-6), max(rate_var, 1e-6)
+
+
+class FleetRobot:
+    """Robot ``index`` of a :class:`DiffDriveFleet`, read as scalars.
+
+    ``truth`` and ``odom`` are Pose2D, ``velocity`` and ``odom_velocity``
+    (v, w) tuples, ``wheel_angles`` and ``wheel_velocities`` [left, right]
+    lists, ``gyro_rate`` and ``gyro_yaw`` floats, ``timed_out`` a bool;
+    :meth:`command` queues a command for this robot.
+    """
+
+    def __init__(self, fleet, index):
+        self.fleet = fleet
+        self.index = index
+        self.config = fleet.config
+
+    def command(self, v, w, stamp):
+        """Queue a velocity command received at ``stamp`` seconds; see
+        :meth:`DiffDriveFleet.command`."""
+        return self.fleet.command(self.index, v, w, stamp)
+
+    def gyro_variances(self, period):
+        """(yaw, yaw rate) variances to report for the gyro at ``period`` s."""
+        return self.fleet.gyro_variances(period)
+
+    @property
+    def truth(self):
+        return Pose2D(*(float(c) for c in self.fleet.truth[self.index]))
+
+    @property
+    def odom(self):
+        return Pose2D(*(float(c) for c in self.fleet.odom[self.index]))
+
+    @property
+    def velocity(self):
+        return tuple(float(c) for c in self.fleet.velocity[self.index])
+
+    @property
+    def odom_velocity(self):
+        return tuple(float(c) for c in self.fleet.odom_velocity[self.index])
+
+    @property
+    def wheel_angles(self):
+        return [float(c) for c in self.fleet.wheel_angles[self.index]]
+
+    @property
+    def wheel_velocities(self):
+        return [float(c) for c in self.fleet.wheel_velocities[self.index]]
+
+    @property
+    def gyro_rate(self):
+        return float(self.fleet.gyro_rate[self.index])
+
+    @property
+    def gyro_yaw(self):
+        return float(self.fleet.gyro_yaw[self.index])
+
+    @property
+    def timed_out(self):
+        return bool(self.fleet.timed_out[self.index])
+
+
+class DiffDriveSim(FleetRobot):
+    """One simulated base: a :class:`DiffDriveFleet` of one, read as scalars
+    (see :class:`FleetRobot`).
+
+    Call :meth:`command` for every cmd_vel and :meth:`step` at the control
+    rate; :class:`DiffDriveFleet` says how a step treats the commands.
+    """
+
+    def __init__(self, config=None):
+        super().__init__(DiffDriveFleet(1, config), 0)
+
+    def step(self, now):
+        """Advance the simulation to ``now`` seconds; True if time advanced
+        (see :meth:`DiffDriveFleet.step`)."""
+        return self.fleet.step(now)

@@ -1,0 +1,404 @@
+"""The ROS side of a fake robot, shared by nodes/fake_turtlebot.py (one
+robot) and nodes/fake_fleet.py (N robots in one process), so every robot
+of a fleet has exactly the single robot's topics, frames and messages.
+
+:class:`RobotTopics` wires one robot of the model (a
+rbx1_nav.sim.diff_drive.FleetRobot) to ROS: cmd_vel in; odom, tf, joint_states,
+ground_truth, imu_data and gps out. :func:`spin_on_ros_time` is the
+fixed-rate loop on ROS time that steps the model, :func:`model_config` the
+model's settings from the parameters.
+"""
+import math
+import os
+
+import numpy as np
+import rospkg
+import rospy
+from geometry_msgs.msg import Quaternion, TransformStamped, Twist
+from nav_msgs.msg import Odometry
+from sensor_msgs.msg import Imu, JointState
+from tf2_msgs.msg import TFMessage
+
+from rbx1_nav.sim.diff_drive import DiffDriveFleet, covariance_from_diagonal
+from rbx1_nav.sim.params import (GPS_UNKNOWN_VARIANCE, MAX_CATCH_UP,
+                                 WARN_PERIOD, config_class)
+from rbx1_nav.sim.physics import PhysicsFleet
+from rbx1_nav.common.ros_time import time_moved_back_text
+from rbx1_nav.common import lockstep_member_ros as lockstep
+from rbx1_nav.common.publish_ros import from_ns, synchronous_publisher
+from rbx1_nav.common.cmd_vel_watch_ros import watch_publishers
+from rbx1_nav.common.throttle import Throttle
+from rbx1_nav.transform_utils import strip_leading_slash, yaw_to_quaternion
+
+__all__ = ['RobotTopics', 'fill_odometry', 'make_fleet', 'model_config',
+           'spin_on_ros_time']
+
+
+def model_config(values, log_name):
+    """The model's configuration in the checked parameters ``values`` (a
+    PhysicsConfig with ~physics, else a DiffDriveConfig); warns when
+    ~cmd_timeout is shorter than a step. Raises ValueError for a bad value."""
+    cls = config_class(values)
+    config = cls.from_params({name: values[name] for name in cls.names()},
+                             prefix='~')
+    if config.cmd_timeout < 1.0 / values['rate']:
+        rospy.logwarn('%s: ~cmd_timeout (%g s) is shorter than one step '
+                      '(1/~rate = %g s); the watchdog will stop the base '
+                      'between most commands', log_name, config.cmd_timeout,
+                      1.0 / values['rate'])
+    return config
+
+
+def make_fleet(values, size, log_name):
+    """The model of ``size`` robots the checked ``values`` ask for: a
+    PhysicsFleet (MuJoCo, with the installed URDF) with ~physics, else a
+    DiffDriveFleet. Raises ValueError for a bad value and ImportError
+    (saying how to install it) when ~physics finds no MuJoCo."""
+    config = model_config(values, log_name)
+    if not values['physics']:
+        return DiffDriveFleet(size, config)
+    urdf = os.path.join(rospkg.RosPack().get_path('rbx1_nav'), 'urdf', 'turtlebot.urdf')
+    fleet = PhysicsFleet(size, config, urdf)
+    rospy.loginfo('%s: physics robot (MuJoCo %s): %g kg on %s, motors %g N m, '
+                  'deadband %g rad/s, %g encoder ticks per turn', log_name,
+                  fleet.mujoco_version, config.mass, config.floor, config.motor_torque,
+                  config.motor_deadband, config.encoder_ticks)
+    return fleet
+
+
+def fill_odometry(msg, stamp, frame_id, child, pose, velocity):
+    """Set header, planar pose and body twist of a nav_msgs/Odometry."""
+    msg.header.stamp = stamp
+    msg.header.frame_id = frame_id
+    msg.child_frame_id = child
+    msg.pose.pose.position.x = pose.x
+    msg.pose.pose.position.y = pose.y
+    msg.pose.pose.orientation = Quaternion(*yaw_to_quaternion(pose.yaw))
+    msg.twist.twist.linear.x, msg.twist.twist.angular.z = velocity
+    return msg
+
+
+class RobotTopics:
+    """One simulated robot's topics, frames and log lines.
+
+    ``robot`` is the model's view of the robot (read after each step),
+    ``values`` the checked rbx1_nav.sim.params.PARAMS, ``lock`` the lock
+    that guards the model between this cmd_vel callback and the step.
+
+    With ``ns`` '' (fake_turtlebot.py) the topics are relative to the
+    node's namespace, the frames are the parameters' values and tf goes to
+    /tf and /tf_static, as tf2_ros's broadcasters send it (a launch file
+    can remap them). With a robot name (fake_fleet.py) everything is in
+    that namespace: topics ``ns/odom`` ..., frames ``ns/odom_frame``,
+    ``ns/base_frame`` and ``ns/imu_frame`` (ground_truth_frame, the world
+    all robots share, stays as it is), tf on ``ns/tf`` and
+    ``ns/tf_static``. ``index`` (a robot's place in the fleet) gives each
+    robot its own GPS noise for a given ~seed. Log lines start with
+    ``log_name``.
+    """
+
+    def __init__(self, robot, values, lock, ns='', index=None,
+                 log_name='fake_turtlebot'):
+        def topic(name):
+            return '%s/%s' % (ns, name) if ns else name
+
+        def frame(name):
+            return strip_leading_slash('%s/%s' % (ns, name)) if ns and name else name
+
+        self.robot = robot
+        self.lock = lock
+        self.log_name = log_name
+        self.period = 1.0 / values['rate']
+        self.odom_frame = frame(values['odom_frame'])
+        self.base_frame = frame(values['base_frame'])
+        self.truth_frame = values['ground_truth_frame']
+        self.imu_frame = frame(values['imu_frame']) or self.base_frame
+        self.gps_noise = values['gps_noise']
+        self.gps_period = rospy.Duration.from_sec(1.0 / values['gps_rate'])
+        self.joints = [values['left_wheel_joint'], values['right_wheel_joint']]
+        self.pose_cov = covariance_from_diagonal(values['pose_covariance_diagonal'])
+        self.twist_cov = covariance_from_diagonal(values['twist_covariance_diagonal'])
+        self.was_timed_out = True
+        self.stopped_at = None  # when the watchdog last stopped the base
+        self.throttle = Throttle(WARN_PERIOD)
+
+        # Room for a whole catch-up burst (MAX_CATCH_UP of steps published
+        # at once), so a late wake-up does not drop odometry messages. Under
+        # lockstep each message is written before the step is reported, so
+        # a motion node gets its tick's state without a queue thread's delay.
+        queue = int(math.ceil(values['rate'] * MAX_CATCH_UP)) + 10
+        synchronous = lockstep.enabled()  # two parameters read once
+
+        def publisher(name, msg_class, queue_size=queue):
+            if synchronous:
+                return synchronous_publisher(name, msg_class)
+            return rospy.Publisher(name, msg_class, queue_size=queue_size)
+
+        self.odom_pub = publisher(topic('odom'), Odometry)
+        self.truth_pub = publisher(topic('ground_truth'), Odometry)
+        self.joint_pub = publisher(topic('joint_states'), JointState)
+        self.imu_pub = (publisher(topic('imu_data'), Imu)
+                        if values['publish_imu'] else None)
+        self.gps_pub = (publisher(topic('gps'), Odometry, 10)
+                        if values['publish_gps'] else None)
+        # Its own generator, so turning the GPS on leaves the odometry and
+        # gyro noise of a given ~seed unchanged.
+        seed = robot.config.seed
+        self.gps_rng = np.random.default_rng(
+            None if seed is None else [seed, 1] + ([] if index is None else [index]))
+        self.next_gps = None
+        # What tf2_ros's TransformBroadcaster and StaticTransformBroadcaster
+        # do, on this robot's own topics when it has a namespace.
+        self.tf_pub = (publisher(topic('tf') if ns else '/tf', TFMessage, 100)
+                       if values['publish_tf'] else None)
+        self.static_tf = rospy.Publisher(topic('tf_static') if ns else '/tf_static',
+                                         TFMessage, queue_size=100, latch=True)
+        world = TransformStamped()
+        world.header.stamp = rospy.Time.now()
+        world.header.frame_id = self.truth_frame
+        world.child_frame_id = self.odom_frame
+        world.transform.rotation.w = 1.0
+        self.static_tf.publish(TFMessage([world]))
+        # Under lockstep (spin_simulator): the simulator's membership, which
+        # counts every command, and the step being handled, the time of
+        # every command that arrives until the next (None: ROS time).
+        self.member = None
+        self.step_time = None
+        self.cmd_sub = rospy.Subscriber(topic('cmd_vel'), Twist, self.on_cmd_vel,
+                                        queue_size=100, tcp_nodelay=True)
+
+    def on_cmd_vel(self, msg):
+        """Queue a command; warn (throttled) about rejected or clamped ones."""
+        now = self.step_time
+        if now is None:
+            now = rospy.Time.now().to_sec()
+        with self.lock:
+            problem = self.robot.command(msg.linear.x, msg.angular.z, now)
+        if self.member is not None:
+            self.member.command_from(self.cmd_sub.resolved_name, msg)
+        if problem is None or not self.throttle.ready(problem, now):
+            return
+        if problem == 'non-finite':
+            rospy.logwarn('%s: non-finite cmd_vel (%r, %r) rejected; stopping',
+                          self.log_name, msg.linear.x, msg.angular.z)
+        elif problem == 'clamped':
+            cfg = self.robot.config
+            rospy.logwarn('%s: cmd_vel (%g, %g) clamped to |v| <= %g m/s, '
+                          '|w| <= %g rad/s', self.log_name, msg.linear.x,
+                          msg.angular.z, cfg.max_linear_speed,
+                          cfg.max_angular_speed)
+
+    def report_watchdog(self, stamp):
+        """Log once each time the watchdog stops or releases the base."""
+        timed_out = self.robot.timed_out
+        if timed_out and not self.was_timed_out:
+            rospy.loginfo('%s: no cmd_vel for %g s; stopping', self.log_name,
+                          self.robot.config.cmd_timeout)
+            self.stopped_at = stamp
+        elif self.was_timed_out and not timed_out and self.stopped_at is not None:
+            rospy.loginfo('%s: cmd_vel again after %.2f s stopped by the watchdog',
+                          self.log_name, (stamp - self.stopped_at).to_sec())
+        self.was_timed_out = timed_out
+
+    def publish(self, stamp):
+        """After a step: the watchdog's log lines, then odom, its tf, joint
+        states, ground truth, the gyro and GPS. A message nobody subscribes
+        to is not even made (rospy would drop it)."""
+        self.report_watchdog(stamp)
+        if self.odom_pub.get_num_connections() or (
+                self.tf_pub and self.tf_pub.get_num_connections()):
+            self.publish_odometry(stamp)
+        robot = self.robot
+        if self.joint_pub.get_num_connections():  # robot_state_publisher, a bag
+            joints = JointState(name=self.joints, position=robot.wheel_angles,
+                                velocity=robot.wheel_velocities)
+            joints.header.stamp = stamp
+            self.joint_pub.publish(joints)
+
+        if self.truth_pub.get_num_connections():
+            self.truth_pub.publish(fill_odometry(Odometry(), stamp, self.truth_frame,
+                                                 self.base_frame, robot.truth,
+                                                 robot.velocity))
+        if self.imu_pub and self.imu_pub.get_num_connections():
+            self.imu_pub.publish(self.imu_message(stamp))
+        if self.gps_pub:
+            self.publish_gps_fix(stamp)
+
+    def publish_odometry(self, stamp):
+        """odom and its tf."""
+        robot = self.robot
+        odom_pose = robot.odom
+        odom = fill_odometry(Odometry(), stamp, self.odom_frame, self.base_frame,
+                             odom_pose, robot.odom_velocity)
+        odom.pose.covariance = self.pose_cov
+        odom.twist.covariance = self.twist_cov
+        self.odom_pub.publish(odom)
+
+        if self.tf_pub:
+            tf = TransformStamped()
+            tf.header = odom.header
+            tf.child_frame_id = self.base_frame
+            tf.transform.translation.x = odom_pose.x
+            tf.transform.translation.y = odom_pose.y
+            tf.transform.rotation = odom.pose.pose.orientation
+            self.tf_pub.publish(TFMessage([tf]))
+
+    def publish_gps_fix(self, stamp):
+        """Every 1/~gps_rate s: the true x, y plus white noise, on gps."""
+        period = self.gps_period
+        if self.next_gps is None or stamp + period < self.next_gps:
+            self.next_gps = stamp  # start, or time moved backwards
+        if stamp < self.next_gps:
+            return
+        self.next_gps += period
+        if self.next_gps <= stamp:  # far behind: back on the grid from now
+            self.next_gps = stamp + period
+        noise = self.gps_rng.normal(0.0, self.gps_noise, 2)
+        truth = self.robot.truth
+        fix = Odometry()
+        fix.header.stamp = stamp
+        fix.header.frame_id = self.truth_frame
+        fix.child_frame_id = self.base_frame
+        fix.pose.pose.position.x = truth.x + noise[0]
+        fix.pose.pose.position.y = truth.y + noise[1]
+        fix.pose.pose.orientation.w = 1.0
+        variance = self.gps_noise ** 2
+        fix.pose.covariance = covariance_from_diagonal(
+            [variance, variance] + [GPS_UNKNOWN_VARIANCE] * 4)
+        fix.twist.covariance = covariance_from_diagonal(
+            [GPS_UNKNOWN_VARIANCE] * 6)
+        self.gps_pub.publish(fix)
+
+    def imu_message(self, stamp):
+        """sensor_msgs/Imu with the gyro's yaw and yaw rate (no accelerometer)."""
+        robot = self.robot
+        yaw_var, rate_var = robot.gyro_variances(self.period)
+        imu = Imu()
+        imu.header.stamp = stamp
+        imu.header.frame_id = self.imu_frame
+        imu.orientation = Quaternion(*yaw_to_quaternion(robot.gyro_yaw))
+        imu.orientation_covariance = [1e-6, 0, 0, 0, 1e-6, 0, 0, 0, yaw_var]
+        imu.angular_velocity.z = robot.gyro_rate
+        imu.angular_velocity_covariance = [1e-6, 0, 0, 0, 1e-6, 0, 0, 0, rate_var]
+        imu.linear_acceleration_covariance[0] = -1.0  # "not measured"
+        return imu
+
+
+def spin_simulator(rate, step, robots, log_name):
+    """Call ``step(stamp)`` on a fixed grid of ROS times, every 1/``rate``
+    s, until shutdown: under lockstep as a simulator member (every step
+    granted to it, its robots' commands counted), otherwise on whatever ROS
+    time does. ``robots`` are the RobotTopics it steps."""
+    watch_publishers(log_name, [robot.cmd_sub.resolved_name for robot in robots])
+    if lockstep.enabled():
+        spin_lockstep(rate, step, robots, log_name)
+    else:
+        spin_on_ros_time(rate, step, log_name)
+
+
+def _time_moved_back(log_name, err):
+    rospy.logwarn('%s: %s', log_name,
+                  time_moved_back_text(err.time, 'Restarting from the new time'))
+
+
+def spin_on_ros_time(rate, step, log_name):
+    """Call ``step(stamp)`` on a fixed grid of ROS times, every 1/``rate`` s.
+
+    When the caller wakes late (a busy CPU at a high sim speed) it catches
+    up step by step, so the published stream is the same at any speed; only
+    after more than MAX_CATCH_UP s behind does it skip ahead in one (still
+    exact) step. Returns at shutdown.
+    """
+    period = rospy.Duration.from_sec(1.0 / rate)
+    next_tick = None
+    while not rospy.is_shutdown():
+        now = rospy.Time.now()
+        if now.is_zero():  # sim time has not started yet
+            next_tick = None
+        elif next_tick is None or now < next_tick - period:  # start or reset
+            next_tick = now
+        else:
+            if (now - next_tick).to_sec() > MAX_CATCH_UP:
+                rospy.logwarn_throttle(WARN_PERIOD, '%s: %.2f s behind ROS time; '
+                                       'skipping ahead' % (log_name, (now - next_tick).to_sec()))
+                next_tick = now
+            while next_tick <= now:
+                step(next_tick)
+                next_tick += period
+        try:
+            rospy.sleep(period if next_tick is None else next_tick - rospy.Time.now())
+        except rospy.ROSTimeMovedBackwardsException as err:
+            _time_moved_back(log_name, err)
+            next_tick = None
+        except rospy.ROSInterruptException:
+            break
+
+
+#: Wall seconds a simulator under lockstep waits for a grant before it
+#: says that nothing grants steps.
+NO_OWNER_WARNING = 5.0
+
+
+def spin_lockstep(rate, step, robots, log_name):
+    """:func:`spin_on_ros_time` as a lockstep simulator (rbx1_nav.sim_time.lockstep).
+
+    sim_clock grants it every step: the 1/``rate`` grid it asks for and
+    every tick a motion node asks for (at full speed only the ticks: then
+    it steps through its own grid up to each on its own). At each it waits
+    for the commands the nodes reported sending, steps to that time and
+    publishes the state there (so a node steers by the pose of its very
+    tick), then reports (lockstep.Member.serve).
+    A grant from before the last step (a new clock, from further back)
+    starts the model again from there.
+    """
+    grid = _Grid(int(round(1e9 / rate)), step, robots, log_name)
+    member = lockstep.Member(every_step=True, step=grid.step_to,
+                             cmd_topics=[r.cmd_sub.resolved_name for r in robots])
+    for robot in robots:
+        robot.member = member
+    rospy.on_shutdown(member.leave)
+    no_owner = ('%s: /lockstep is true but no step granted on %s for %.0f s: '
+                'start sim_clock (roslaunch rbx1_nav sim_clock.launch), or set '
+                '/lockstep false' % (log_name, lockstep.GRANT_TOPIC, NO_OWNER_WARNING))
+    while not rospy.is_shutdown():
+        try:
+            member.join(NO_OWNER_WARNING)
+            break
+        except lockstep.JoinError:
+            rospy.logwarn(no_owner)
+    member.serve(NO_OWNER_WARNING, lambda: rospy.logwarn(no_owner))
+
+
+class _Grid(object):
+    """A lockstep simulator's own grid of steps, every ``period`` ns."""
+
+    def __init__(self, period, step, robots, log_name):
+        self.period = period
+        self.step = step
+        self.robots = robots
+        self.log_name = log_name
+        self.next = None  # the grid's next step (ns); None: from the next grant
+        self.last = None  # the last step taken (ns)
+
+    def step_to(self, action, now):
+        """Step through the grid up to the granted ``now`` (ns) and to
+        ``now`` itself; return the next step wanted."""
+        if action == lockstep.BACK:
+            _time_moved_back(self.log_name, rospy.ROSTimeMovedBackwardsException(
+                (self.last - now) * 1e-9))
+            self.next = None
+        while self.next is not None and self.next < now:  # its own steps on the way
+            _step_at(self.next, self.step, self.robots)
+            self.next += self.period
+        _step_at(now, self.step, self.robots)
+        self.last = now
+        if self.next is None or now >= self.next:
+            self.next = now + self.period
+        return self.next
+
+
+def _step_at(time_ns, step, robots):
+    """Step to ``time_ns``; commands arriving from now on count from there."""
+    for robot in robots:
+        robot.step_time = time_ns * 1e-9
+    step(from_ns(time_ns))

@@ -1,0 +1,166 @@
+"""Lockstep simulated time: one owner grants every step.
+
+Under free-running simulated time a node that falls behind the clock (a
+busy CPU, a high ``sim_speed``) sees the robot move further between its
+control ticks than it planned, so a course's result depends on the
+scheduler. In lockstep, as in Gazebo's lockstep, Webots' ``robot_step``
+loop or an FMI co-simulation master, one **owner** of simulated time
+(sim_clock) moves it: it tells the members "advance to T" (a *grant*) and
+waits until each has answered "handled T" (a *report*). Then it runs as
+fast as the machine allows (or as ``sim_speed`` caps it), and a course ends
+in the same pose at any speed and under any load.
+
+The members:
+
+* A **simulator** (fake_turtlebot.py, fake_fleet.py, any later one) is
+  granted every step: at T it applies the commands that arrived, steps its
+  model to T (through each step of its own grid on the way) and publishes
+  the state at each before it reports.
+* A **motion node** is granted only its own ticks: at T it reads the
+  simulator's state stamped T, publishes its command and reports, with the
+  number of ``cmd_vel`` messages it has sent on each topic so far.
+
+Each grant carries those command counts, so a simulator granted a step
+first waits until it has received every command that the reports behind
+the grant counted (commands travel on their own connections). ``/clock``
+is published for ordinary nodes (RViz, rosbag, pose_ekf, a user's script);
+no member waits for it. Time jumps from event to event: the next grant is
+the earliest next tick any member asked for, so a 20 Hz course on a 50 Hz
+simulator costs the union of both grids, not a 10 ms walk. With ``batch``
+(sim_clock at full speed, where nothing watches the wall clock) only the
+motion nodes' ticks are granted while any takes part: a simulator steps
+through its own grid up to each grant on its own, as Gazebo's physics runs
+between two sensor or controller updates, with the same states and stamps
+and a third of the round trips.
+
+Why nothing can wait forever (the deadlock argument):
+
+1. The owner waits only for the reports of the members it granted. A
+   member's handling of a grant waits only on messages already sent before
+   the grant, or sent by another member handling the same grant without
+   waiting for anyone: the simulator waits for commands counted in reports
+   the owner has already received (sent before those reports); a motion
+   node waits for the simulator's state at T, which the simulator publishes
+   without waiting for any node at T. The wait-for relation within a step
+   is node -> simulator -> earlier messages: it has no cycle.
+2. Members wait only for a grant naming them, never for ``/clock`` or their
+   own reading of it. Grants and reports are idempotent, named by their
+   time: a member that hears nothing for RESEND seconds sends its last
+   report again, and the owner re-sends an unanswered grant. A lost or
+   late message costs a re-send, never a frozen graph.
+3. Every wait has a watchdog in wall time: the owner drops a member whose
+   connection closed at once and a silent one after SILENT (it rejoins
+   with its next report); a simulator goes on without commands lost on
+   the way after LOST_COMMANDS; a motion node stops waiting for state that
+   does not come (the simulator died) and its tf watchdog ends the course.
+
+Joining: a member sends a report without having been granted anything; its
+first grant is the owner's next step, whatever time it asked for (so a new
+owner, started from further back, takes over members of an old one).
+Leaving: a report marked leaving, or the member's connection closing.
+Times are integer nanoseconds; no rospy here, so the rules are unit-tested
+without a master (test/unit/test_lockstep.py). A member's side of the rules
+(Follower, CommandLedger) is rbx1_nav.common.lockstep_member: every
+node that keeps time takes part, so it is common ground; the owner is here.
+"""
+from rbx1_nav.common.lockstep_member import SILENT
+
+__all__ = ['Owner']
+
+
+class _Member(object):
+    __slots__ = ('next', 'every_step', 'granted', 'silent_since')
+
+    def __init__(self, every_step):
+        self.next = None          # next tick asked for; None: the next step
+        self.every_step = every_step
+        self.granted = None       # the step it owes a report for
+        self.silent_since = None  # when that grant went out (wall s)
+
+
+class Owner(object):
+    """The owner's side: who takes part, when the next step is, who owes a
+    report. ``start`` (ns) is the time already published; ``step`` (ns) the
+    step taken when no member asks for a time. ``wall`` times are passed
+    in, so the watchdogs are testable without sleeping."""
+
+    def __init__(self, start=0, step=10000000, batch=False):
+        self.now = start
+        self.step = step
+        self.batch = batch
+        self.members = {}   # name -> _Member
+        self.commands = {}  # (topic, sender) -> cmd_vel messages it sent
+
+    def report(self, report):
+        """Take a report; return (change, warning): change is 'joined',
+        'left' or None, warning a sentence or None."""
+        for topic, count in report.commands.items():
+            self.commands[(topic, report.name)] = count
+        member = self.members.get(report.name)
+        if report.leaving:
+            return ('left' if self.members.pop(report.name, None) else None), None
+        if member is None:
+            self.members[report.name] = _Member(report.every_step)
+            return 'joined', None
+        if member.granted is None or report.handled != member.granted:
+            return None, None  # a report sent again, or one overtaken
+        member.granted = member.silent_since = None
+        if report.next <= report.handled:
+            member.next = None
+            return None, ('%s asked for its next tick at %.9f s, not after the '
+                          'step it handled (%.9f s): refused; granted the next '
+                          'step instead' % (report.name, report.next * 1e-9,
+                                            report.handled * 1e-9))
+        member.next = report.next
+        return None, None
+
+    def next_grant(self):
+        """(time, names) of the next step and the members it is granted
+        to, or None without members. Call once no report is owed."""
+        if not self.members:
+            return None
+        asked = [m.next for m in self.members.values() if m.next is not None]
+        if self.batch:  # simulators' grids only when no node asks
+            asked = ([m.next for m in self.members.values()
+                      if m.next is not None and not m.every_step] or asked)
+        time = min(asked) if asked else self.now + self.step
+        time = max(time, self.now + 1)
+        names = sorted(name for name, m in self.members.items()
+                       if m.every_step or m.next is None or m.next <= time)
+        return time, names
+
+    def drives(self):
+        """True while a member that is no simulator (a motion node) takes part."""
+        return any(not m.every_step for m in self.members.values())
+
+    def grant(self, time, names, wall):
+        """The step ``time`` goes out to ``names`` at wall time ``wall``;
+        return the names still members (one may have left meanwhile)."""
+        if time <= self.now:
+            raise ValueError('step %d ns is not after %d ns' % (time, self.now))
+        self.now = time
+        names = [name for name in names if name in self.members]
+        for name in names:
+            member = self.members[name]
+            member.granted, member.silent_since = time, wall
+        return names
+
+    def owing(self):
+        """Names of the members that owe a report for the step granted."""
+        return sorted(name for name, m in self.members.items()
+                      if m.granted is not None)
+
+    def silent(self, wall, limit=SILENT):
+        """Names of the members that have owed a report for over ``limit``
+        wall seconds."""
+        return sorted(name for name, m in self.members.items()
+                      if m.granted is not None and wall - m.silent_since > limit)
+
+    def drop(self, name):
+        """Forget ``name`` (dead or silent); True if it was a member."""
+        return self.members.pop(name, None) is not None
+
+    def command_counts(self):
+        """[(topic, sender, count)] of every member's reported commands."""
+        return [(topic, sender, count)
+                for (topic, sender), count in sorted(self.commands.items())]
