@@ -1,6 +1,6 @@
 """Test helper: record what a fake_turtlebot publishes and send it commands.
 
-Imported by the test/fake_turtlebot_*_test.py rostest nodes (not a node
+Imported by the test/rostest/fake_turtlebot_*_test.py rostest nodes (not a node
 itself). All waiting is in ROS time, so the tests behave the same at any
 simulation speed; the rostest time-limit is the wall-clock backstop.
 """

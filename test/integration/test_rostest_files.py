@@ -1,4 +1,4 @@
-"""Run every test/*.test and test/faults/*.test file through rostest, one
+"""Run every test/rostest/*.test and test/faults/*.test file through rostest, one
 pytest case each.
 
 This lets `make test` report unit and integration results in one pytest
@@ -17,7 +17,7 @@ import subprocess
 import pytest
 
 TEST_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-ALL_FILES = sorted(glob.glob(os.path.join(TEST_DIR, '*.test'))
+ALL_FILES = sorted(glob.glob(os.path.join(TEST_DIR, 'rostest', '*.test'))
                    + glob.glob(os.path.join(TEST_DIR, 'faults', '*.test')))
 
 
