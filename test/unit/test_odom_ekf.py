@@ -10,8 +10,8 @@ rospy_time = pytest.importorskip('genpy')
 from rbx1_nav.estimation.input_check import ABSURD, DUPLICATE, MAX_POSITION, NEGATIVE_VARIANCE, NOT_FINITE, OUT_OF_ORDER, ZERO_STAMP, RejectedInput  # noqa: E402
 from rbx1_nav.estimation.odom_ekf import (MAX_TWIST, MIN_TWIST_DT,  # noqa: E402
                                UNKNOWN_TWIST_COVARIANCE,
-                               UNKNOWN_VARIANCE, PoseToOdometry,
-                               silent_input_text)
+                               UNKNOWN_VARIANCE, POSE_TYPE, PoseToOdometry,
+                               input_publishers, silent_input_text)
 from rbx1_nav.transform_utils import strip_leading_slash  # noqa: E402
 
 
@@ -290,3 +290,17 @@ def test_a_silent_input_is_named_with_the_topics_to_remap_to():
     assert '/robot_pose_ekf publishes it' in silent_input_text(
         '/odom_combined', 5.0, ['/robot_pose_ekf'], ['/odom_combined'])
     assert 'unknown' in silent_input_text('/odom_combined', 5.0, None, None)
+
+
+def test_the_input_publishers_and_the_topics_to_remap_to_come_from_the_graph():
+    graph = ({'/odom_combined': ['/ekf'], '/robot_pose_ekf/odom_combined':
+              ['/robot_pose_ekf'], '/odom': ['/sim'], '/old': []},
+             {}, {'/odom_combined': POSE_TYPE,
+                  '/robot_pose_ekf/odom_combined': POSE_TYPE,
+                  '/odom': 'nav_msgs/Odometry', '/old': POSE_TYPE})
+    publishers, candidates = input_publishers('/odom_combined', graph)
+    assert publishers == ['/ekf']
+    assert sorted(candidates) == ['/odom_combined',
+                                  '/robot_pose_ekf/odom_combined']
+    assert input_publishers('/nothing', graph)[0] == []
+    assert input_publishers('/odom_combined', None) == (None, None)

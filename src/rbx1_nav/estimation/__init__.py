@@ -13,8 +13,12 @@
   a silent sensor's warning, a second publisher of our transform;
 * :mod:`~rbx1_nav.estimation.input_check`: the screen every reading
   passes before a filter uses it;
+* :mod:`~rbx1_nav.estimation.pose_ekf`: pose_ekf's sensor messages as
+  plain values, its estimate as messages;
 * :mod:`~rbx1_nav.estimation.odom_ekf`: the fused pose as nav_msgs/Odometry.
 
 No rospy outside the ``*_ros.py`` modules: times are float seconds, poses
-are plain tuples.
+are plain tuples. The nodes' ROS sides are
+:mod:`~rbx1_nav.estimation.pose_ekf_ros` and
+:mod:`~rbx1_nav.estimation.odom_ekf_ros`.
 """

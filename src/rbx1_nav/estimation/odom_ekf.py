@@ -2,8 +2,9 @@
 
 robot_pose_ekf (and ``pose_ekf.py`` here) publish their estimate as a
 geometry_msgs/PoseWithCovarianceStamped on ``odom_combined``. RViz's Odometry
-display wants nav_msgs/Odometry, so ``nodes/odom_ekf.py`` republishes each
-pose through :class:`PoseToOdometry`, which drops bad input through
+display wants nav_msgs/Odometry, so ``odom_ekf.py``
+(:mod:`rbx1_nav.estimation.odom_ekf_ros`) republishes each pose through
+:class:`PoseToOdometry`, which drops bad input through
 :class:`rbx1_nav.estimation.input_check.InputCheck` (unstamped, out-of-order or
 repeated poses, NaN or absurd values, negative variances), so the output's
 stamps only move forward. This module imports no rospy: message classes
@@ -21,7 +22,8 @@ from rbx1_nav.transform_utils import (normalize_angle, quat_to_angle,
                                       strip_leading_slash)
 
 __all__ = ['PoseToOdometry', 'UNKNOWN_VARIANCE', 'UNKNOWN_TWIST_COVARIANCE',
-           'MIN_TWIST_DT', 'MAX_TWIST', 'SENSOR', 'silent_input_text']
+           'MIN_TWIST_DT', 'MAX_TWIST', 'SENSOR', 'POSE_TYPE',
+           'input_publishers', 'silent_input_text']
 
 #: Variance that marks a twist component as unknown (the common ROS idiom).
 UNKNOWN_VARIANCE = 1e6
@@ -37,6 +39,8 @@ MAX_TWIST = 1e3
 
 #: The name of the input in :attr:`PoseToOdometry.inputs`.
 SENSOR = 'pose'
+#: The input's message type, as the master names it.
+POSE_TYPE = 'geometry_msgs/PoseWithCovarianceStamped'
 
 
 class PoseToOdometry(object):
@@ -149,6 +153,20 @@ class PoseToOdometry(object):
         odom.twist.covariance = np.diag(
             [var, var, UNKNOWN_VARIANCE, UNKNOWN_VARIANCE, UNKNOWN_VARIANCE,
              var]).ravel().tolist()
+
+
+def input_publishers(topic, graph):
+    """``(publishers, candidates)`` for :func:`silent_input_text`: the
+    nodes that publish ``topic`` and the published topics of
+    :data:`POSE_TYPE`, from ``graph`` (the master's ``(publishers,
+    subscribers, types)``, dicts by topic name); both None without a
+    ``graph``."""
+    if graph is None:
+        return None, None
+    published, _, types = graph
+    return (published.get(topic, []),
+            [name for name, kind in types.items()
+             if kind == POSE_TYPE and published.get(name)])
 
 
 def silent_input_text(topic, seconds, publishers, candidates):

@@ -1,14 +1,16 @@
-"""The texts pose_ekf shows a person: its status (the node's
-``~get_status``), the warning for a used sensor that never sent anything,
-and the error while another node publishes the same transform
-(:class:`OtherPublisherWatch` spots it). No rospy here.
+"""The texts pose_ekf shows a person: its start-up line (what it listens
+to and publishes), its status (the node's ``~get_status``), the warning for
+a used sensor that never sent anything, and the error while another node
+publishes the same transform (:class:`OtherPublisherWatch` spots it). No
+rospy here.
 """
 import numpy as np
 
 from rbx1_nav.estimation.sensors import MOTION_SOURCES, SENSORS
 
-__all__ = ['state_text', 'status_text', 'silent_sensor_text',
-           'OtherPublisherWatch', 'other_publisher_text', 'SENSOR_KINDS']
+__all__ = ['state_text', 'status_text', 'listening_text', 'output_text',
+           'silent_sensor_text', 'OtherPublisherWatch', 'other_publisher_text',
+           'SENSOR_KINDS']
 
 #: What each sensor measures, for the status text.
 SENSOR_KINDS = {'odom': 'wheel odometry, relative pose',
@@ -77,6 +79,29 @@ def status_text(fusion, now, topics=None):
     lines.append('sensor_timeout %.3g s; filter restarts: %d'
                  % (fusion.sensor_timeout, fusion.restarts))
     return '\n'.join(lines)
+
+
+def listening_text(topics, output_topic, output_frame, base_frame,
+                   publish_tf):
+    """The start-up line: the sensors' ``topics`` (name -> resolved topic)
+    and what the node publishes (``output_topic`` and, with
+    ``publish_tf``, the tf ``output_frame -> base_frame``)."""
+    return 'listening on %s; publishing %s%s' % (
+        ', '.join('%s %s' % item for item in sorted(topics.items())),
+        output_topic, ' and tf %s -> %s' % (output_frame, base_frame)
+        if publish_tf else ' only (~publish_tf false: no tf)')
+
+
+def output_text(output_topic, output_frame, base_frame, publish_tf, others):
+    """The status lines on the node's output: its topic, its tf, and the
+    ``others`` (node names) heard publishing ``base_frame`` on tf."""
+    text = 'output: %s, tf %s' % (
+        output_topic, '%s -> %s' % (output_frame, base_frame) if publish_tf
+        else 'off (~publish_tf false)')
+    if others:
+        text += '\nalso publishing %s on tf: %s' % (base_frame,
+                                                    ', '.join(others))
+    return text
 
 
 def _matrix_text(matrix):

@@ -1,0 +1,239 @@
+"""The ROS side of pose_ekf.py: subscriptions, tf, the ``~get_status``
+service and the filter loop, wired to
+:class:`rbx1_nav.estimation.fusion.GyroOdomFusion`.
+
+Messages become plain values and back in
+:mod:`rbx1_nav.estimation.pose_ekf`; the texts come from
+:mod:`rbx1_nav.estimation.status`. The node file declares the parameters
+and calls :func:`main`.
+"""
+import math
+import threading
+
+import rospy
+import tf2_ros
+from geometry_msgs.msg import PoseWithCovarianceStamped
+from std_srvs.srv import Trigger, TriggerResponse
+from tf2_msgs.msg import TFMessage
+
+from rbx1_nav.common.master_ros import MasterWatch, reregister_node
+from rbx1_nav.common.node_ros import start_node, until_shutdown
+from rbx1_nav.common.ros_time import time_moved_back_text
+from rbx1_nav.estimation.ekf import is_finite_estimate
+from rbx1_nav.estimation.fusion import GyroOdomFusion
+from rbx1_nav.estimation.input_check import RejectedInput
+from rbx1_nav.estimation.pose_ekf import (TOPICS, gps_fix, imu_yaw,
+                                          planar_pose, pose_message,
+                                          transform_message)
+from rbx1_nav.estimation.status import (OtherPublisherWatch, listening_text,
+                                        other_publisher_text, output_text,
+                                        silent_sensor_text)
+
+WARN_PERIOD = 5.0  # s between repeats of the same warning
+CONFLICT_PERIOD = 30.0  # s between repeats of the second-publisher error
+
+
+def connected_publishers(subscriber):
+    """The nodes ``subscriber`` is connected to, or None if unknown.
+
+    From rospy's own connections, not the master: asking a busy (or
+    unreachable) master would hold up the filter loop, and with it the
+    warning this feeds.
+    """
+    try:
+        return sorted(c.callerid_pub for c in subscriber.impl.connections)
+    except AttributeError:  # rospy's internals changed
+        return None
+
+
+class PoseEkfNode(object):
+    """Feeds sensor messages to GyroOdomFusion and publishes its estimate."""
+
+    def __init__(self, values):
+        started = rospy.Time.now()  # before the topics connect
+        self.output_frame = values['output_frame']
+        self.base_frame = values['base_footprint_frame']
+        self.freq = values['freq']
+        self.publish_tf = values['publish_tf']
+        used = {name: values[name + '_used'] for name in TOPICS}
+        topics = {name: rospy.resolve_name(TOPICS[name][0]) for name in TOPICS}
+        self.fusion = GyroOdomFusion(
+            used['odom'], used['imu'], values['sensor_timeout'], used['vo'],
+            used['gps'], topics, values['gps_kalman'],
+            math.radians(values['gps_frame_rotation_sd'])
+            if values['gps_frame_rotation'] else None, self.freq)
+        if not started.is_zero():
+            self.fusion.start(started.to_sec())
+        self.lock = threading.Lock()
+        self.pub = rospy.Publisher('~odom_combined', PoseWithCovarianceStamped,
+                                   queue_size=10)
+        self.tf = tf2_ros.TransformBroadcaster() if self.publish_tf else None
+        callbacks = {'odom': self.on_odom, 'imu': self.on_imu,
+                     'vo': self.on_vo, 'gps': self.on_gps}
+        self.subs, self.topics = {}, {}
+        for name, (topic, msg_type) in TOPICS.items():
+            if used[name]:
+                sub = rospy.Subscriber(topic, msg_type, callbacks[name],
+                                       queue_size=50)
+                self.subs[name], self.topics[name] = sub, sub.resolved_name
+        rospy.loginfo('pose_ekf: ' + listening_text(
+            self.topics, self.pub.resolved_name, self.output_frame,
+            self.base_frame, self.publish_tf))
+        self.conflicts = OtherPublisherWatch(CONFLICT_PERIOD)
+        self.tf_sub = None
+        if self.publish_tf:
+            # '/tf' as the broadcaster names it, so a <remap from="/tf">
+            # applies to both.
+            self.tf_sub = rospy.Subscriber('/tf', TFMessage, self.on_tf,
+                                           queue_size=100)
+        self.status_srv = rospy.Service('~get_status', Trigger,
+                                        self.on_get_status)
+
+    # -- inputs -----------------------------------------------------------------
+    def _feed(self, name, add, unpack, msg):
+        """Give the filter one message of sensor ``name``.
+
+        ``unpack(inputs, name, msg)`` (rbx1_nav.estimation.pose_ekf) gives
+        the reading's arguments to ``add`` after the receive time and the
+        stamp. The ROS time is read under the lock, so the filter sees it
+        in order; a drop (RejectedInput) is logged outside the lock, at
+        most once per sensor and kind every 10 s.
+        """
+        texts = []
+        with self.lock:
+            now = self._clock_now(texts)
+            try:
+                add(now, msg.header.stamp.to_sec(),
+                    *unpack(self.fusion.inputs, name, msg))
+            except RejectedInput as err:
+                texts.append(self.fusion.inputs.warning(
+                    err, now, '%s on %s' % (name, self.topics[name])))
+        for text in texts:
+            if text:
+                rospy.logwarn('pose_ekf: ' + text)
+
+    def _clock_now(self, texts):
+        """ROS time in seconds; restarts the filter (and says so in
+        ``texts``) should it have moved backwards. Call under the lock."""
+        now = rospy.Time.now().to_sec()
+        back = self.fusion.check_clock(now)
+        if back > 0.0:
+            texts.append(time_moved_back_text(back))
+        return now
+
+    def on_odom(self, msg):
+        """Hand an odometry pose and its covariance to the filter."""
+        self._feed('odom', self.fusion.add_odom, planar_pose, msg)
+
+    def on_vo(self, msg):
+        """Hand a visual odometry pose and its covariance to the filter."""
+        self._feed('vo', self.fusion.add_vo, planar_pose, msg)
+
+    def on_gps(self, msg):
+        """Hand a GPS fix (x, y; z ignored) and its covariance to the filter."""
+        self._feed('gps', self.fusion.add_gps, gps_fix, msg)
+
+    def on_imu(self, msg):
+        """Hand the IMU's yaw and its variance to the filter."""
+        self._feed('imu', self.fusion.add_imu, imu_yaw, msg)
+
+    def on_tf(self, msg):
+        """Spot another node publishing our child frame on tf."""
+        caller = msg._connection_header.get('callerid', '?')
+        if caller == rospy.get_name():
+            return
+        for tf in msg.transforms:
+            if tf.child_frame_id.lstrip('/') != self.base_frame:
+                continue
+            if self.conflicts.seen(caller, rospy.Time.now().to_sec()):
+                rospy.logerr('pose_ekf: ' + other_publisher_text(
+                    caller, tf.header.frame_id.lstrip('/'), self.base_frame,
+                    self.tf_sub.resolved_name))
+            return
+
+    def on_get_status(self, _request):
+        now = rospy.Time.now().to_sec()
+        with self.lock:
+            text = self.fusion.status_text(now, self.topics)
+        text += '\n' + output_text(
+            self.pub.resolved_name, self.output_frame, self.base_frame,
+            self.publish_tf, self.conflicts.publishers)
+        return TriggerResponse(success=self.fusion.estimate is not None,
+                               message=text)
+
+    # -- the loop ---------------------------------------------------------------
+    def step(self):
+        """One filter step; publish the estimate if it took in new data.
+
+        A non-finite estimate is never published: the filter restarts.
+        """
+        if rospy.Time.now().is_zero():  # simulated time has not started
+            return
+        texts = []
+        with self.lock:
+            now = self._clock_now(texts)
+            try:
+                events = self.fusion.step(now)
+                estimates = self.fusion.new_estimates
+                if not all(is_finite_estimate(e) for e in estimates):
+                    raise ValueError('the estimate is not finite')
+            except (ValueError, ArithmeticError) as err:
+                self.fusion.restart()
+                events, estimates = [], []
+                rospy.logwarn_throttle(WARN_PERIOD, 'pose_ekf: filter restarted'
+                                       ' (%s); waiting for new sensor data' % err)
+            silent = self.fusion.silent_sensors(now)
+            gone = self.conflicts.gone(now)
+        for text in texts:
+            rospy.logwarn('pose_ekf: ' + text)
+        for level, text in events:
+            (rospy.logwarn if level == 'warn' else rospy.loginfo)(
+                'pose_ekf: ' + text)
+        for name in silent:
+            topic = self.topics[name]
+            rospy.logwarn('pose_ekf: ' + silent_sensor_text(
+                name, topic, self.fusion.sensor_timeout,
+                connected_publishers(self.subs[name])))
+        for caller in gone:
+            rospy.loginfo('pose_ekf: %s no longer publishes %s on tf',
+                          caller, self.base_frame)
+        for estimate in estimates:
+            self.publish(*estimate)
+
+    def publish(self, stamp, pose, cov3):
+        """Publish ``~odom_combined`` and (with ~publish_tf) the tf."""
+        msg = pose_message(rospy.Time.from_sec(stamp), self.output_frame,
+                           pose, cov3)
+        self.pub.publish(msg)
+        if self.tf is not None:
+            self.tf.sendTransform(transform_message(msg, self.base_frame))
+
+    def spin(self):
+        """Step at ``~freq`` (ROS time, so sim time works) until shutdown."""
+        rate = rospy.Rate(self.freq)
+        while not rospy.is_shutdown():
+            self.step()
+            try:
+                rate.sleep()
+            except rospy.exceptions.ROSTimeMovedBackwardsException:
+                pass  # the next step notices it, says so and restarts
+            except rospy.ROSInterruptException:
+                break
+
+
+def main(specs, doc):
+    """main() of pose_ekf.py: start the node (as robot_pose_ekf) with its
+    parameters ``specs`` (``doc``: its docstring, for --help) and run the
+    filter until shutdown; returns the exit status (1: a bad parameter)."""
+    values = start_node('robot_pose_ekf', specs, doc)
+    if values is None:
+        return 1
+    MasterWatch('pose_ekf', on_restarted=lambda uri: reregister_node(
+        'pose_ekf', uri)).start()
+    try:
+        node = PoseEkfNode(values)
+    except ValueError as err:
+        rospy.logfatal('pose_ekf: %s' % err)
+        return 1
+    until_shutdown(node.spin)
+    return 0
