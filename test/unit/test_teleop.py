@@ -4,9 +4,9 @@ import math
 import pytest
 
 from rbx1_nav.motion.course import MAX_ANGULAR_SPEED
-from rbx1_nav.motion.teleop import (MOTION_KEYS, PARAMS, QUIT_KEYS, SPEED_KEYS,
-                             STOP, STOP_KEYS, KeyboardTeleop, Speeds,
-                             check_settings, help_text)
+from rbx1_nav.motion.teleop import (MOTION_KEYS, NOT_A_TERMINAL, PARAMS, POLL,
+                             QUIT_KEYS, SPEED_KEYS, STOP, STOP_KEYS,
+                             KeyboardTeleop, Speeds, check_settings, help_text)
 
 DEFAULTS = dict((spec.name, spec.default) for spec in PARAMS)
 
@@ -227,3 +227,48 @@ def test_every_bad_setting_is_reported_at_once():
     assert str(err.value).endswith(
         'rosparam delete /teleop_keyboard/linear_speed; '
         'rosparam delete /teleop_keyboard/key_timeout')
+
+
+# --- one read of the terminal at a time --------------------------------------
+
+def test_a_read_of_several_keys_takes_each_in_turn():
+    t = teleop()
+    assert t.feed('iw', 0.0) == (pytest.approx(0.22), 0.0)
+    assert t.last == "'w' linear speed up"
+    assert t.feed('ik', 0.1) == STOP
+
+
+def test_a_read_with_no_key_still_times_the_motion_out():
+    t = teleop(key_timeout=0.5)
+    t.feed('i', 0.0)
+    assert t.feed('', 0.4) == (0.2, 0.0)
+    assert t.feed('', 0.5) == STOP and t.last == 'key released: stop'
+
+
+def test_a_hang_up_quits():
+    t = teleop()
+    t.feed('i', 0.0)
+    assert t.feed(None, 0.1) == STOP and t.quit
+
+
+def test_from_settings_leaves_the_rate_to_the_node():
+    t = KeyboardTeleop.from_settings(settings(linear_speed=0.3, rate=50,
+                                              key_timeout=2))
+    assert (t.speeds.linear, t.key_timeout) == (0.3, 2.0)
+    assert t.speeds.max_angular == DEFAULTS['max_angular_speed']
+
+
+def test_the_wait_for_a_key_ends_at_the_timeout_or_the_next_repeat():
+    t = teleop(key_timeout=0.6)
+    assert t.read_timeout(0.0, -5.0) == POLL == 0.1  # not moving: just poll
+    t.feed('i', 10.0)
+    assert t.read_timeout(10.0, 1.0) == POLL
+    assert t.read_timeout(10.55, 1.0) == pytest.approx(0.05)  # the timeout
+    assert t.read_timeout(10.0, 0.03) == pytest.approx(0.03)  # the repeat
+    assert t.read_timeout(10.0, -0.2) == 0.0  # a repeat overdue
+    assert t.read_timeout(10.0, 1.0, poll=0.5) == pytest.approx(0.5)
+
+
+def test_without_a_terminal_the_node_says_how_to_run_it():
+    assert NOT_A_TERMINAL.startswith('teleop_keyboard needs a keyboard')
+    assert 'launch-prefix="xterm -e"' in NOT_A_TERMINAL

@@ -8,8 +8,10 @@ import pytest
 from ideal_robot import run
 from rbx1_nav.motion.course import Approach
 from rbx1_nav.calibration.umbmark import (FALSE_ALARM, analyse, check_errors, corrections,
-                              critical, plot, relative, report, runs_needed,
-                              square_course)
+                              compare_text, critical, evaluate, load,
+                              parse_position, plot, relative, report,
+                              rerun_text, results_record, run_label,
+                              runs_needed, save, square_course)
 from rbx1_nav.transform_utils import Pose2D, normalize_angle
 
 PRECISE = Approach(1.0, 4.0, 0.005, 0.01)
@@ -223,3 +225,108 @@ def test_noise_alone_supports_a_correction_in_false_alarm_of_benchmarks():
                         rng.normal(0.0, 0.03, (runs, 2)), 1.0, B).supported
                 for _ in range(500))
     assert found > 250
+
+
+def test_run_labels_count_from_one_and_name_the_direction():
+    assert run_label(0, 10, True) == 'run 1/10 (cw)'
+    assert run_label(9, 10, False) == 'run 10/10 (ccw)'
+
+
+@pytest.mark.parametrize('answer, position', [
+    ('0.012 -0.004', (0.012, -0.004)), ('0.012, -0.004', (0.012, -0.004)),
+    ('  -0.1,0.2 ', (-0.1, 0.2))])
+def test_a_typed_position_is_read_with_or_without_a_comma(answer, position):
+    assert parse_position(answer, 1.0) == pytest.approx(position)
+    assert isinstance(parse_position(answer, 1.0), tuple)
+
+
+@pytest.mark.parametrize('answer, hint', [
+    ('', 'type two numbers in metres, e.g. "0.012 -0.004"'),
+    ('0.1', 'type two numbers in metres, e.g. "0.012 -0.004"'),
+    ('0.1 0.2 0.3', 'type two numbers in metres, e.g. "0.012 -0.004"'),
+    ('a b', 'type two numbers in metres, e.g. "0.012 -0.004"'),
+    ('nan 0', 'is not a finite position; try again'),
+    ('12 0', "more than the square's side (1 m): a wrong unit (metres) or "
+             "another run?; try again")])
+def test_an_unusable_typed_position_says_what_to_type(answer, hint):
+    with pytest.raises(ValueError) as err:
+        parse_position(answer, 1.0)
+    assert str(err.value).endswith(hint)
+
+
+def benchmark_positions():
+    """Odometry's and the true return positions of 2 + 2 runs."""
+    odometry = [[0.001, 0.002], [0.0, -0.001], [0.003, 0.0], [-0.002, 0.001]]
+    measured = [[-0.05, -0.048], [-0.052, -0.05], [0.02, -0.021], [0.018, -0.02]]
+    return odometry, measured
+
+
+def test_evaluate_checks_the_measurements_first_then_odometry():
+    odometry, measured = benchmark_positions()
+    with pytest.raises(ValueError, match=r'^~measurements must be a list of 4'):
+        evaluate([[0.0]], measured[:3], 2, 1.0, B)
+    with pytest.raises(ValueError, match=r'^~odometry\[1\] = \[.*nan.* is not a finite'):
+        evaluate([[0, 0], [math.nan, 0], [0, 0], [0, 0]], measured, 2, 1.0, B)
+    odom, true, result = evaluate(odometry, measured, 2, 1.0, B)
+    assert odom.shape == true.shape == (4, 2)
+    expected = analyse(np.subtract(measured, odometry)[:2],
+                       np.subtract(measured, odometry)[2:], 1.0, B)
+    assert result.ed == expected.ed and result.eb == expected.eb
+
+
+def test_the_results_file_holds_the_figures_and_loads_back(tmp_path):
+    odometry, measured = benchmark_positions()
+    odom, true, result = evaluate(odometry, measured, 2, 1.0, B)
+    record = results_record(result, 2, odom, true)
+    assert record['side'] == 1.0 and record['runs'] == 2
+    assert record['wheel_separation'] == B
+    assert record['odometry'] == odometry and record['measurements'] == measured
+    assert (record['e_max_syst'], record['ed'], record['eb']) == (
+        result.e_max, result.ed, result.eb)
+    assert record['scatter']['cw'] == {'sd': result.scatter_cw.sd,
+                                       'se': result.scatter_cw.se}
+    assert record['scatter']['ccw']['sd'] == result.scatter_ccw.sd
+    assert record['supported'] == result.supported
+    assert record['corrections'] == (corrections(result) if result.supported
+                                     else None)
+    path = str(tmp_path / 'umbmark.yaml')
+    save(path, result, 2, odom, true)
+    again = load(path)
+    assert (again.e_max, again.ed, again.eb) == (result.e_max, result.ed,
+                                                 result.eb)
+
+
+def test_an_unsupported_correction_is_saved_as_null(tmp_path):
+    scattered = [[0.01, 0.0], [-0.01, 0.0], [0.0, 0.01], [0.0, -0.01]]
+    odom, true, result = evaluate([[0.0, 0.0]] * 4, scattered, 2, 1.0, B)
+    assert not result.supported  # both centres of gravity at zero
+    assert results_record(result, 2, odom, true)['corrections'] is None
+
+
+def test_a_supported_correction_is_saved_with_the_factors():
+    odometry = [[0.0, 0.0]] * 10
+    measured = ([[-0.1 + 0.001 * k, -0.1] for k in range(5)]
+                + [[0.02, -0.02 + 0.001 * k] for k in range(5)])
+    odom, true, result = evaluate(odometry, measured, 5, 1.0, B)
+    assert result.supported
+    assert results_record(result, 5, odom, true)['corrections'] == \
+        corrections(result)
+
+
+def test_the_comparison_gives_both_e_max_and_their_ratio():
+    before = analyse([[-0.1, 0.0]], [[0.05, 0.0]], 1.0, B)
+    after = analyse([[-0.004, 0.003]], [[0.001, 0.0]], 1.0, B)
+    assert compare_text(before, after) == (
+        'E_max,syst before 100.0 mm, after 5.0 mm (20.0x)')
+    perfect = analyse([[0.0, 0.0]], [[0.0, 0.0]], 1.0, B)
+    assert compare_text(before, perfect).endswith('after 0.0 mm '
+                                                  '(100000000000.0x)')
+
+
+def test_the_rerun_command_carries_odometry_rounded_to_a_tenth_of_a_mm():
+    text = rerun_text(2, 1.5, [(0.012345, -0.00044), (0.1, 0.2)])
+    assert text.startswith('all runs done. Measure where each run stopped')
+    assert text.endswith(
+        "\n  rosrun rbx1_nav umbmark.py _runs:=2 _side:=1.5 "
+        "_odometry:='[[0.0123, -0.0004], [0.1, 0.2]]' "
+        "_measurements:='[[x1, y1], ...]'")

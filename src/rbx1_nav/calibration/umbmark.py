@@ -62,19 +62,26 @@ freedom), at FALSE_ALARM / 2 per cluster. k is about 2 standard errors:
 scatter is itself a rough guess. One run each way shows no scatter and
 supports nothing. When a correction is not supported, the runs each way
 that would make a systematic error of the size measured stand out are the
-smallest n with |cg| sqrt(n) / s > k(n). No rospy here.
+smallest n with |cg| sqrt(n) / s > k(n).
+
+The node's plain parts are here too (its ROS side is umbmark_ros): the run
+labels, reading a position typed at the terminal, the results file (YAML)
+and the texts it logs. No rospy here.
 """
 import math
 from collections import namedtuple
 
 import numpy as np
+import yaml
 
 from rbx1_nav.motion.course import Course, Drive, Pause, Turn
 
 __all__ = ['relative', 'square_course', 'check_errors', 'analyse',
            'analyse_runs', 'Result', 'Scatter', 'FALSE_ALARM', 'critical',
            'runs_needed',
-           'corrections', 'report', 'plot']
+           'corrections', 'report', 'plot', 'run_label', 'parse_position',
+           'evaluate', 'results_record', 'save', 'load', 'compare_text',
+           'rerun_text']
 
 CW, CCW = 'cw', 'ccw'
 FALSE_ALARM = 0.05  # chance of a correction "supported" by noise alone
@@ -333,3 +340,81 @@ def plot(results, path, labels=None):
     fig.tight_layout()
     fig.savefig(path, dpi=100)
     plt.close(fig)
+
+
+def run_label(k, runs, clockwise):
+    """'run 3/10 (cw)': run ``k`` (from 0) of ``runs`` in all."""
+    return 'run %d/%d (%s)' % (k + 1, runs, CW if clockwise else CCW)
+
+
+def parse_position(answer, side):
+    """The (x, y) typed as ``answer`` ("x y" or "x, y", metres) for a square
+    of ``side``; ValueError with the hint to show the user if unusable."""
+    try:
+        x, y = (float(part) for part in answer.replace(',', ' ').split())
+    except ValueError:
+        raise ValueError('type two numbers in metres, e.g. "0.012 -0.004"')
+    try:
+        return tuple(check_errors([[x, y]], 1, side, 'position')[0])
+    except ValueError as err:
+        raise ValueError('%s; try again' % err)
+
+
+def evaluate(odometry, measured, runs, side, wheel_separation):
+    """Check odometry's and the true return positions (2 x ``runs`` each,
+    clockwise runs first) and analyse them: (odometry, measured, Result),
+    the positions as arrays. ValueError names the node's parameter
+    (~measurements, ~odometry) whose value is unusable."""
+    count = 2 * runs
+    measured = check_errors(measured, count, side, '~measurements')
+    odometry = check_errors(odometry, count, side, '~odometry')
+    result = analyse_runs(odometry, measured, runs, side, wheel_separation)
+    return odometry, measured, result
+
+
+def results_record(result, runs, odometry, measured):
+    """What the results file holds: the benchmark's settings and positions,
+    the figures, each direction's scatter and the corrections (None when
+    the data do not support them)."""
+    return {
+        'side': result.side, 'runs': runs,
+        'wheel_separation': result.wheel_separation,
+        'odometry': odometry.tolist(), 'measurements': measured.tolist(),
+        'e_max_syst': result.e_max, 'ed': result.ed, 'eb': result.eb,
+        'scatter': {label: {'sd': spread.sd, 'se': spread.se} for label, spread
+                    in ((CW, result.scatter_cw), (CCW, result.scatter_ccw))},
+        'supported': result.supported,
+        'corrections': corrections(result) if result.supported else None}
+
+
+def save(path, result, runs, odometry, measured):
+    """Write :func:`results_record` to ``path`` (YAML)."""
+    with open(path, 'w') as f:
+        yaml.safe_dump(results_record(result, runs, odometry, measured), f)
+
+
+def load(path):
+    """The Result of a results file :func:`save` wrote."""
+    with open(path) as f:
+        saved = yaml.safe_load(f)
+    return analyse_runs(saved['odometry'], saved['measurements'],
+                        saved['runs'], saved['side'],
+                        saved['wheel_separation'])
+
+
+def compare_text(before, after):
+    """E_max,syst of an earlier Result and this one, and their ratio."""
+    return 'E_max,syst before %.1f mm, after %.1f mm (%.1fx)' % (
+        1000 * before.e_max, 1000 * after.e_max,
+        before.e_max / max(after.e_max, 1e-12))
+
+
+def rerun_text(runs, side, odometry):
+    """What to measure after runs driven without ground truth or terminal,
+    and the command that analyses the measurements with odometry's
+    return positions ``odometry``."""
+    return ('all runs done. Measure where each run stopped (x forward, y '
+            'left of its start, metres; clockwise runs first), then run:\n'
+            "  rosrun rbx1_nav umbmark.py _runs:=%d _side:=%g _odometry:='%s' "
+            "_measurements:='[[x1, y1], ...]'" % (
+                runs, side, [[round(x, 4), round(y, 4)] for x, y in odometry]))

@@ -1,10 +1,10 @@
 """Keyboard teleoperation as plain logic: key map, speeds, key-release timeout.
 
-No rospy here: ``nodes/teleop_keyboard.py`` reads keys from the terminal,
-feeds each one (or None when no key came) with the time to
-:meth:`KeyboardTeleop.update`, publishes the (linear, angular) command it
-returns and shows :meth:`KeyboardTeleop.status`. Tests drive the same class
-with a fake clock.
+No rospy here: rbx1_nav.motion.teleop_ros (teleop_keyboard.py's ROS side)
+reads keys from the terminal, feeds them (or None when no key came) with
+the time to :meth:`KeyboardTeleop.feed`, publishes the (linear, angular)
+command it returns and shows :meth:`KeyboardTeleop.status`. Tests drive the
+same class with a fake clock.
 
 The layout is teleop_twist_keyboard's; the robot heads towards the key's
 place around ``k``, reversing like a car for ``m`` and ``.``::
@@ -29,7 +29,7 @@ from rbx1_nav.common.params import param
 
 __all__ = ['Command', 'STOP', 'MOTION_KEYS', 'STOP_KEYS', 'SPEED_KEYS',
            'QUIT_KEYS', 'PARAMS', 'check_settings', 'Speeds',
-           'KeyboardTeleop', 'help_text']
+           'KeyboardTeleop', 'help_text', 'POLL', 'NOT_A_TERMINAL']
 
 # key: (sign of linear speed, sign of angular speed, name); angular > 0 is
 # counter-clockwise (left), as in REP 103.
@@ -51,6 +51,13 @@ SPEED_KEYS = {
     'e': (1.0, 1.1, 'angular speed up'), 'c': (1.0, 0.9, 'angular speed down'),
 }
 QUIT_KEYS = ('Q', '\x03')  # Q, or Ctrl-C (a key, not a signal: ISIG is off)
+POLL = 0.1  # s: the longest wait for a key, also how often a shutdown is noticed
+
+NOT_A_TERMINAL = (
+    'teleop_keyboard needs a keyboard: its stdin is not a terminal. Run it '
+    'with rosrun in a terminal, or roslaunch in the foreground of a terminal, '
+    'or in a launch file with launch-prefix="xterm -e" (keyboard_teleop.launch'
+    ' launch_prefix:="xterm -e").')
 
 
 # The node's private parameters. The package-wide speed limits of
@@ -131,6 +138,13 @@ class KeyboardTeleop(object):
         self.last = 'waiting for a key'
         self.quit = False
 
+    @classmethod
+    def from_settings(cls, settings):
+        """The teleop for :func:`check_settings`'s values (all but the
+        ``rate``, which is the node's cmd_vel repeat)."""
+        return cls(**dict((name, value) for name, value in settings.items()
+                          if name != 'rate'))
+
     @property
     def moving(self):
         return self.direction != (0, 0)
@@ -167,6 +181,16 @@ class KeyboardTeleop(object):
             self._stop('key released: stop')
         return self.command()
 
+    def feed(self, keys, now):
+        """Take the keys of one read at ``now`` ('' when none came, None
+        once the terminal hung up: as good as a quit key); return the
+        Command after the last."""
+        if keys is None:
+            keys = QUIT_KEYS[0]
+        for key in keys or [None]:
+            command = self.update(key, now)
+        return command
+
     def command(self):
         """The Command for the current direction and speeds."""
         return Command(self.direction[0] * self.speeds.linear,
@@ -177,6 +201,14 @@ class KeyboardTeleop(object):
         if not self.moving:
             return None
         return max(0.0, self.pressed_at + self.key_timeout - now)
+
+    def read_timeout(self, now, until_send, poll=POLL):
+        """Seconds to wait for a key at ``now``: ``poll``, and while moving
+        no longer than until the motion times out or until the command's
+        repeat is due (``until_send`` s from now, negative when overdue)."""
+        if not self.moving:
+            return poll
+        return min(poll, self.release_in(now), max(0.0, until_send))
 
     def status(self):
         """One line: the speeds, the command and the last key's effect."""
