@@ -18,7 +18,7 @@ Publishes:   odom (nav_msgs/Odometry), tf odom_frame -> base_frame, static
              at ~gps_rate Hz, with variance ~gps_noise^2; seeded by ~seed)
 Parameters:  rbx1_nav.sim.params.PARAMS (--help lists them), every field
              of rbx1_nav.sim.diff_drive.DiffDriveConfig among them (bounds in
-             its CONFIG_LIMITS) and, with ~physics, of
+             rbx1_nav.sim.params) and, with ~physics, of
              rbx1_nav.sim.physics.PhysicsConfig. A bad value (or ~physics
              without MuJoCo installed) is logged and the node exits with
              status 1.
