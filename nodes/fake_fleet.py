@@ -24,60 +24,10 @@ Parameters:  ~robots and every parameter of fake_turtlebot.py
              generator for the fleet (seeded by ~seed), each robot's GPS
              from its own.
 """
-import threading
+from rbx1_nav.sim.node_ros import fake_fleet
+from rbx1_nav.sim.params import PARAMS as ROBOT_PARAMS, ROBOTS
 
-import rospy
-
-from rbx1_nav.sim import params as sim_params
-from rbx1_nav.sim.robot_ros import RobotTopics, make_fleet, spin_simulator
-from rbx1_nav.common.node_ros import start_node, until_shutdown
-
-NAME = 'fake_fleet'
-PARAMS = (sim_params.ROBOTS,) + sim_params.PARAMS
-
-
-class FakeFleet:
-    """The model (DiffDriveFleet, or PhysicsFleet with ~physics), one
-    RobotTopics per robot, and the fixed-rate loop."""
-
-    def __init__(self, values):
-        self.rate = values['rate']
-        self.names = values['robots']
-        self.sim = make_fleet(values, len(self.names), NAME)
-        self.lock = threading.Lock()
-        self.robots = [RobotTopics(self.sim.robot(i), values, self.lock, ns=name,
-                                   index=i, log_name='%s: %s' % (NAME, name))
-                       for i, name in enumerate(self.names)]
-        rospy.loginfo('%s: %d robots (%s), each with its tf on its own topic: '
-                      '%s', NAME, len(self.names), ', '.join(self.names),
-                      rospy.resolve_name(self.names[0] + '/tf'))
-
-    def spin(self):
-        """Step every robot on a fixed grid of ROS times (under lockstep,
-        also at their motion nodes' ticks): see
-        rbx1_nav.sim.robot_ros.spin_simulator."""
-        spin_simulator(self.rate, self.step, self.robots, NAME)
-
-    def step(self, stamp):
-        """Advance every robot to ``stamp`` and publish their new states."""
-        with self.lock:
-            advanced = self.sim.step(stamp.to_sec())
-        if advanced:
-            for robot in self.robots:
-                robot.publish(stamp)
-
-
-def main():
-    values = start_node(NAME, PARAMS, __doc__)
-    if values is None:
-        raise SystemExit(1)
-    try:
-        fleet = FakeFleet(values)
-    except (ValueError, ImportError) as err:
-        rospy.logfatal('%s: %s', NAME, err)
-        raise SystemExit(1)
-    until_shutdown(fleet.spin)
-
+PARAMS = (ROBOTS,) + ROBOT_PARAMS
 
 if __name__ == '__main__':
-    main()
+    fake_fleet(PARAMS, __doc__)

@@ -28,20 +28,16 @@ so the model behaves identically at any simulation speed. No rospy here.
 """
 import math
 from collections import deque
-from dataclasses import dataclass, fields
+from dataclasses import fields
 
 import numpy as np
 
-from rbx1_nav.common.params import integer, number
+from rbx1_nav.common.params import bounds, number
+from rbx1_nav.sim.params import DIFF_DRIVE_PARAMS, declared_fields, optional_integer
 from rbx1_nav.transform_utils import Pose2D
 
 __all__ = ['DiffDriveConfig', 'DiffDriveSim', 'DiffDriveFleet', 'FleetRobot',
-           'arc_steps', 'columns', 'wrap_angles', 'covariance_from_diagonal',
-           'DEFAULT_COVARIANCE_DIAGONAL', 'CONFIG_LIMITS']
-
-# x, y, z, roll, pitch, yaw. A planar base observes only x, y and yaw; the
-# large values for the rest follow the TurtleBot driver's convention.
-DEFAULT_COVARIANCE_DIAGONAL = (1e-3, 1e-3, 1e6, 1e6, 1e6, 1e-3)
+           'arc_steps', 'columns', 'wrap_angles', 'covariance_from_diagonal']
 
 
 
@@ -95,55 +91,36 @@ def covariance_from_diagonal(diagonal):
     return np.diag(diag).ravel().tolist()
 
 
-@dataclass
+@declared_fields(DIFF_DRIVE_PARAMS)
 class DiffDriveConfig:
     """Parameters of the simulated base; defaults are an ideal TurtleBot.
 
-    Every field is a private parameter of the node with the same name.
+    Every field is a private parameter of the node with the same name,
+    declared (default, check, bounds) in rbx1_nav.sim.params.DIFF_DRIVE_PARAMS;
+    ``PARAMS`` holds the declarations of all the fields.
     """
-    wheel_separation: float = 0.26      # m, between the wheel contact points
-    wheel_radius: float = 0.033         # m
-    max_linear_speed: float = 0.5       # m/s, larger commands are clamped
-    max_angular_speed: float = 3.0      # rad/s
-    accel_limit_linear: float = 0.0     # m/s^2, 0 = unlimited
-    accel_limit_angular: float = 0.0    # rad/s^2, 0 = unlimited
-    cmd_timeout: float = 0.5            # s without cmd_vel before stopping
-    command_latency: float = 0.0        # s between receipt and execution
-    linear_scale_error: float = 1.0     # odometry distance / true distance
-    angular_scale_error: float = 1.0    # odometry rotation / true rotation
-    odom_linear_scale_correction: float = 1.0   # driver calibration factor
-    odom_angular_scale_correction: float = 1.0  # driver calibration factor
-    left_wheel_radius_error: float = 1.0    # true radius / nominal radius
-    right_wheel_radius_error: float = 1.0   # true radius / nominal radius
-    # The driver-side corrections under diff_drive_controller's names:
-    left_wheel_radius_multiplier: float = 1.0
-    right_wheel_radius_multiplier: float = 1.0
-    wheel_separation_multiplier: float = 1.0
-    encoder_noise: float = 0.0          # m per sqrt(m) of wheel travel (1 sigma)
-    gyro_noise_density: float = 0.0     # rad/s/sqrt(Hz) white rate noise
-    gyro_bias: float = 0.0              # rad/s constant rate offset
-    seed: int = None                    # None: fresh random noise each run
 
     def problems(self):
         """Human-readable list of invalid values; empty when all are usable.
 
-        Every number must be an int or float within :data:`CONFIG_LIMITS`
-        (the bounds keep the model's arithmetic finite); ``seed`` must be
-        None or an int >= 0.
+        Every number must be an int or float within its declared bounds
+        (they keep the model's arithmetic finite); ``seed`` must be None or
+        an int >= 0. The numbers come first, then the other fields.
         """
         found = []
-        for name, (low, high, allow_zero) in self.limits().items():
-            value = getattr(self, name)
+        for spec in sorted(self.PARAMS, key=lambda spec: spec.check is not number):
+            value = getattr(self, spec.name)
             try:
-                if isinstance(value, bool) or not isinstance(value, (int, float)):
-                    raise ValueError('%s must be a number, got %r' % (name, value))
-                number(name, value, low, high, allow_zero)
+                if spec.check is number and (isinstance(value, bool) or
+                                             not isinstance(value, (int, float))):
+                    raise ValueError('%s must be a number, got %r' % (spec.name, value))
+                if spec.check is optional_integer and value is not None and (
+                        isinstance(value, bool) or not isinstance(value, int)):
+                    raise ValueError('%s must be an integer %s, got %r'
+                                     % (spec.name, bounds(spec), value))
+                spec.check(spec.name, value, **spec.options)
             except ValueError as err:
                 found.append(str(err))
-        seed = self.seed
-        if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int)
-                                 or seed < 0):
-            found.append('seed must be an integer >= 0, got %r' % (seed,))
         return found
 
     @classmethod
@@ -154,19 +131,14 @@ class DiffDriveConfig:
         defaults. Numbers may be numeric strings (YAML reads 1e6 as one).
         Raises ValueError naming every bad value as ``prefix + name``.
         """
+        specs = {spec.name: spec for spec in cls.PARAMS}
         values, found = {}, []
-        limits = cls.limits()
         for name, value in raw.items():
-            if name not in limits and name not in cls.OTHER_FIELDS:
+            if name not in specs:
                 raise ValueError('%s%s is not a fake robot parameter' % (prefix, name))
             try:
-                if name == 'seed':
-                    values[name] = (None if value is None
-                                    else integer(prefix + name, value, minimum=0))
-                elif name in limits:
-                    values[name] = number(prefix + name, value, *limits[name])
-                else:
-                    values[name] = cls.OTHER_FIELDS[name](prefix + name, value)
+                values[name] = specs[name].check(prefix + name, value,
+                                                 **specs[name].options)
             except ValueError as err:
                 found.append(str(err))
         if found:
@@ -177,42 +149,6 @@ class DiffDriveConfig:
     def names(cls):
         """Names of all parameters, in declaration order."""
         return [f.name for f in fields(cls)]
-
-    #: The fields that are not numbers, each with its check (as
-    #: rbx1_nav.common.params' checks take a name and a value); seed is read apart.
-    OTHER_FIELDS = {'seed': None}
-
-    @classmethod
-    def limits(cls):
-        """(minimum, maximum, allow_zero) of each numeric field."""
-        return CONFIG_LIMITS
-
-
-#: (minimum, maximum, allow_zero) of each numeric DiffDriveConfig field, for
-#: :func:`rbx1_nav.common.params.number`. The maxima are far beyond any real base
-#: but keep the model's arithmetic finite (no inf pose, no endless loop).
-CONFIG_LIMITS = {
-    'wheel_separation': (1e-3, 10.0, False),        # m
-    'wheel_radius': (1e-3, 10.0, False),            # m
-    'max_linear_speed': (0.0, 100.0, False),        # m/s
-    'max_angular_speed': (0.0, 100.0, False),       # rad/s
-    'accel_limit_linear': (0.0, 1e6, True),         # m/s^2, 0 = unlimited
-    'accel_limit_angular': (0.0, 1e6, True),        # rad/s^2, 0 = unlimited
-    'cmd_timeout': (0.0, 1e6, False),               # s
-    'command_latency': (0.0, 60.0, True),           # s
-    'linear_scale_error': (0.0, 100.0, False),
-    'angular_scale_error': (0.0, 100.0, False),
-    'odom_linear_scale_correction': (0.0, 100.0, False),
-    'odom_angular_scale_correction': (0.0, 100.0, False),
-    'left_wheel_radius_error': (0.0, 100.0, False),
-    'right_wheel_radius_error': (0.0, 100.0, False),
-    'left_wheel_radius_multiplier': (0.0, 100.0, False),
-    'right_wheel_radius_multiplier': (0.0, 100.0, False),
-    'wheel_separation_multiplier': (0.0, 100.0, False),
-    'encoder_noise': (0.0, 1.0, True),              # m/sqrt(m)
-    'gyro_noise_density': (0.0, 10.0, True),        # rad/s/sqrt(Hz)
-    'gyro_bias': (-10.0, 10.0, True),               # rad/s
-}
 
 
 def _max_change(accel_limit, dt):

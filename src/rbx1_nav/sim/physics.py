@@ -14,9 +14,10 @@ every :data:`TIMESTEP` s:
   is limited to ``motor_torque`` and whose speed to ``max_wheel_speed``, so
   the base takes time to speed up, coasts when stopped and slows on carpet;
 * the **wheels** touch the floor at one point each (spheres) with the
-  friction of ``floor`` (:data:`FLOORS`); their true radii are the nominal one
-  times ``left_wheel_radius_error``/``right_wheel_radius_error``, their true
-  separation the nominal one times ``wheel_separation_error``;
+  friction of ``floor`` (rbx1_nav.sim.floors.FLOORS); their true radii are
+  the nominal one times ``left_wheel_radius_error``/
+  ``right_wheel_radius_error``, their true separation the nominal one times
+  ``wheel_separation_error``;
 * the **encoders** count ``encoder_ticks`` per revolution, and the driver's
   odometry comes from those counts exactly as in the kinematic model
   (diff_drive's multipliers and scale corrections apply the same way);
@@ -36,10 +37,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rbx1_nav.sim.diff_drive import CONFIG_LIMITS, DiffDriveConfig, DiffDriveFleet, columns
-from rbx1_nav.common.params import text
+from rbx1_nav.sim.diff_drive import DiffDriveConfig, DiffDriveFleet, columns
+from rbx1_nav.sim.floors import FLOORS
+from rbx1_nav.sim.params import PHYSICS_PARAMS, declared_fields
 
-__all__ = ['PhysicsConfig', 'PhysicsFleet', 'FLOORS', 'Floor',
+__all__ = ['PhysicsConfig', 'PhysicsFleet',
            'URDF', 'TIMESTEP', 'MOTOR_GAIN', 'ARMATURE', 'INSTALL_HINT', 'import_mujoco']
 
 #: The package's URDF, in a source checkout (a node passes the installed
@@ -59,77 +61,14 @@ INSTALL_HINT = ('the physics robot needs MuJoCo (Python >= 3.11): '
                 '~physics) works without it')
 
 
-@dataclass(frozen=True)
-class Floor:
-    """Contact of the wheels and casters with one kind of floor.
-
-    ``wheel`` and ``caster`` are MuJoCo's friction triples (sliding, torsional
-    in m, rolling in m); ``softness`` is the contact's time constant (s):
-    a soft floor lets the wheels sink, which shortens their rolling radius.
-    """
-    wheel: tuple
-    caster: tuple
-    softness: float
-
-
-#: The floors a robot can drive on. Carpet: more grip, a caster that drags,
-#: rolling resistance, wheels that sink in by about a millimetre.
-FLOORS = {
-    'tile': Floor(wheel=(0.8, 0.001, 0.0002), caster=(0.02, 0.0005, 0.0001),
-                  softness=0.004),
-    'carpet': Floor(wheel=(1.0, 0.004, 0.0015), caster=(0.15, 0.002, 0.0005),
-                    softness=0.02),
-}
-
-
-def floor_name(name, value):
-    """``value`` as a key of :data:`FLOORS`, or ValueError naming ``name``."""
-    value = text(name, value)
-    if value not in FLOORS:
-        raise ValueError('%s must be one of %s, got %.200r'
-                         % (name, ', '.join(sorted(FLOORS)), value))
-    return value
-
-
-#: Bounds of PhysicsConfig's own numeric fields (as diff_drive.CONFIG_LIMITS).
-PHYSICS_LIMITS = {
-    'mass': (0.0, 1000.0, False),                   # kg, the whole robot
-    'wheel_separation_error': (0.0, 100.0, False),  # true / nominal
-    'motor_torque': (0.0, 100.0, False),            # N m per wheel
-    'motor_deadband': (0.0, 1000.0, True),          # rad/s of wheel speed
-    'max_wheel_speed': (0.0, 1000.0, False),        # rad/s
-    'encoder_ticks': (1.0, 1e7, False),             # per wheel revolution
-}
-
-
-@dataclass
+@declared_fields(PHYSICS_PARAMS)
 class PhysicsConfig(DiffDriveConfig):
-    """The kinematic model's parameters plus the physical ones.
+    """The kinematic model's parameters plus the physical ones
+    (rbx1_nav.sim.params.PHYSICS_PARAMS).
 
     ``encoder_noise`` has no effect here: the encoders' error is their
     resolution (``encoder_ticks``) and the wheels' slip.
     """
-    floor: str = 'carpet'
-    mass: float = 6.0                   # kg, the URDF's: base 5.8, wheels 0.1 each
-    wheel_separation_error: float = 1.0  # true / nominal separation
-    motor_torque: float = 0.1           # N m, each wheel's torque limit
-    motor_deadband: float = 0.2         # rad/s, slower wheel commands stay 0
-    max_wheel_speed: float = 20.0       # rad/s, the motors' speed limit
-    encoder_ticks: float = 508.8        # per revolution (an iRobot Create's)
-
-    OTHER_FIELDS = {'seed': None, 'floor': floor_name}
-
-    @classmethod
-    def limits(cls):
-        return dict(CONFIG_LIMITS, **PHYSICS_LIMITS)
-
-    def problems(self):
-        found = super().problems()
-        try:
-            floor_name('floor', self.floor)
-        except ValueError as err:
-            found.append(str(err))
-        return found
 
 
 @dataclass(frozen=True)
