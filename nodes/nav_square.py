@@ -18,8 +18,8 @@ sent a stop.
 """
 import math
 
-from rbx1_nav.motion.course import (PRECISE_PARAMS, Course, approach, legs_course,
-                             legs_params)
+from rbx1_nav.motion.course import Course, legs_course, legs_params
+from rbx1_nav.motion.precise import PRECISE_PARAMS, approach
 from rbx1_nav.common.node_ros import exit_node
 from rbx1_nav.motion.runner_ros import common_params, run_course_node
 

@@ -15,7 +15,8 @@ stale tf, an error or an interruption. The robot is always sent a stop.
 """
 import math
 
-from rbx1_nav.motion.course import PRECISE_PARAMS, legs_params
+from rbx1_nav.motion.course import legs_params
+from rbx1_nav.motion.precise import PRECISE_PARAMS
 from rbx1_nav.motion.book import CourseConfig, OutAndBack
 from rbx1_nav.common.node_ros import exit_node
 from rbx1_nav.motion.runner_ros import common_params, run_course_node

@@ -38,8 +38,8 @@ import yaml
 
 from rbx1_nav.common import params
 from rbx1_nav.calibration import umbmark
-from rbx1_nav.motion.course import (MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED,
-                             PRECISE_PARAMS, approach)
+from rbx1_nav.motion.command import MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED
+from rbx1_nav.motion.precise import PRECISE_PARAMS, approach
 from rbx1_nav.common.params import param
 from rbx1_nav.common.node_ros import exit_node, start_node
 from rbx1_nav.motion.runner_ros import (CourseAborted, MotionRunner, common_params,

@@ -3,7 +3,7 @@ import math
 
 import pytest
 
-from rbx1_nav.motion.course import MAX_ANGULAR_SPEED
+from rbx1_nav.motion.command import MAX_ANGULAR_SPEED
 from rbx1_nav.motion.teleop import (MOTION_KEYS, PARAMS, QUIT_KEYS, SPEED_KEYS,
                              STOP, STOP_KEYS, KeyboardTeleop, Speeds,
                              check_settings, help_text)

@@ -3,19 +3,17 @@
 No rospy here. The course is [drive ``goal_distance``, pause, turn
 ``goal_angle``, pause] x ``legs`` (:func:`rbx1_nav.motion.course.legs_course`);
 the rules for drives, turns, the tolerance and precise mode are those of
-:mod:`rbx1_nav.motion.course`. The node ``nodes/odom_out_and_back.py`` reads the
+:mod:`rbx1_nav.motion.steps` and :mod:`rbx1_nav.motion.precise`. The node ``nodes/odom_out_and_back.py`` reads the
 same settings as private parameters (``~angular_tolerance`` in degrees, as in
 the book; radians here) and runs the course through ``rbx1_nav.motion.runner_ros``.
 """
 import math
 
 from rbx1_nav.common import params
-from rbx1_nav.motion.course import (PRECISE_PARAMS, STOP, Command, Course,
-                             approach, legs_course, legs_params, pose_error)
-from rbx1_nav.transform_utils import Pose2D
+from rbx1_nav.motion.course import Course, legs_course, legs_params
+from rbx1_nav.motion.precise import PRECISE_PARAMS, approach
 
-__all__ = ['Pose2D', 'Command', 'STOP', 'CourseConfig', 'OutAndBack',
-           'expected_end_pose', 'pose_error', 'COURSE_PARAMS']
+__all__ = ['CourseConfig', 'OutAndBack', 'expected_end_pose', 'COURSE_PARAMS']
 
 # The course's settings with the book's values; angular_tolerance in radians.
 COURSE_PARAMS = legs_params(
