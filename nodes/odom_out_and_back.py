@@ -13,26 +13,15 @@ runner's (rbx1_nav.motion.runner_ros), shared by every motion node.
 Exit status: 0 after a completed course, 1 on bad parameters, missing or
 stale tf, an error or an interruption. The robot is always sent a stop.
 """
-import math
 
-from rbx1_nav.motion.course import PRECISE_PARAMS, legs_params
-from rbx1_nav.motion.book import CourseConfig, OutAndBack
 from rbx1_nav.common.node_ros import exit_node
+from rbx1_nav.motion.book import OUT_AND_BACK
 from rbx1_nav.motion.runner_ros import common_params, run_course_node
 
 NAME = 'odom_out_and_back'
-PARAMS = legs_params(linear_speed=0.15, goal_distance=1.0, angular_speed=0.5,
-                     goal_angle=math.pi, angular_tolerance=1.0, legs=2,
-                     pause=1.0) + PRECISE_PARAMS
-COURSE = tuple(p.name for p in PARAMS)
-PARAMS += common_params(rate=20.0)
-
-
-def build_course(values):
-    settings = {name: values[name] for name in COURSE}
-    settings['angular_tolerance'] = math.radians(values['angular_tolerance'])
-    return OutAndBack(CourseConfig(**settings))
+PARAMS = OUT_AND_BACK.params + common_params(rate=OUT_AND_BACK.rate)
 
 
 if __name__ == '__main__':
-    exit_node(NAME, run_course_node(NAME, PARAMS, build_course, doc=__doc__))
+    exit_node(NAME, run_course_node(NAME, PARAMS, OUT_AND_BACK.build,
+                                    doc=__doc__))

@@ -8,7 +8,8 @@ ticks as if every turn ran at 1 rad/s, each duration comes from the speeds
 and is timed on ROS time, so the course also works at other speeds and
 under simulated time. No odometry is needed to drive; if the odom -> base
 transform exists it is watched (staleness stops the robot) and the summary
-line gives the final pose.
+line gives the final pose. The course lives in rbx1_nav.motion.book, the
+ROS side in rbx1_nav.motion.runner_ros.
 
 Publishes:  cmd_vel (geometry_msgs/Twist), relative.
 Subscribes: odom (nav_msgs/Odometry), only its velocity: the summary counts the
@@ -18,25 +19,16 @@ runner's (rbx1_nav.motion.runner_ros), shared by every motion node.
 Exit status: 0 after a completed course, 1 otherwise; the robot is always
 sent a stop.
 """
-import math
 
-from rbx1_nav.motion.course import Course, legs_course, legs_params
 from rbx1_nav.common.node_ros import exit_node
+from rbx1_nav.motion.book import TIMED_OUT_AND_BACK
 from rbx1_nav.motion.runner_ros import common_params, run_course_node
 
 NAME = 'timed_out_and_back'
-PARAMS = legs_params(linear_speed=0.2, goal_distance=1.0, angular_speed=1.0,
-                     goal_angle=math.pi, legs=2, pause=1.0) + common_params(
-                         rate=50.0)
-
-
-def build_course(values):
-    return Course(legs_course(values['goal_distance'], values['goal_angle'],
-                              values['legs'], values['linear_speed'],
-                              values['angular_speed'], pause=values['pause'],
-                              period=1.0 / values['rate']))
+PARAMS = TIMED_OUT_AND_BACK.params + common_params(rate=TIMED_OUT_AND_BACK.rate)
 
 
 if __name__ == '__main__':
-    exit_node(NAME, run_course_node(NAME, PARAMS, build_course,
-                                    require_tf=False, doc=__doc__))
+    exit_node(NAME, run_course_node(NAME, PARAMS, TIMED_OUT_AND_BACK.build,
+                                    require_tf=False,
+                                    doc=__doc__))

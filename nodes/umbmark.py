@@ -33,8 +33,8 @@ from rbx1_nav.calibration.truth_ros import TRUTH_PARAM
 from rbx1_nav.calibration.umbmark_ros import run
 from rbx1_nav.common import params
 from rbx1_nav.common.params import param
-from rbx1_nav.motion.course import (MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED,
-                                    PRECISE_PARAMS)
+from rbx1_nav.motion.command import MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED
+from rbx1_nav.motion.precise import PRECISE_PARAMS
 from rbx1_nav.motion.runner_ros import common_params
 
 PARAMS = (

@@ -20,8 +20,8 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Log
 
-from rbx1_nav.motion.book import Pose2D, pose_error
-from rbx1_nav.transform_utils import quat_to_angle
+from rbx1_nav.motion.command import pose_error
+from rbx1_nav.transform_utils import Pose2D, quat_to_angle
 
 WALL_LIMIT = 120.0  # s; a guard so a broken run fails instead of hanging
 

@@ -2,7 +2,9 @@
 import pytest
 
 from rbx1_nav.motion.dropouts import FRESH, HOLD, LOST, Dropouts
-from rbx1_nav.motion.course import STOP, Course, Drive
+from rbx1_nav.motion.command import STOP
+from rbx1_nav.motion.course import Course
+from rbx1_nav.motion.steps import Drive
 from rbx1_nav.transform_utils import Pose2D
 
 

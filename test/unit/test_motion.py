@@ -1,4 +1,5 @@
-"""Unit tests for rbx1_nav.motion.course: the primitives and the Course, no ROS.
+"""Unit tests for the motion core (rbx1_nav.motion.course, .steps, .precise,
+.in_flight, .stalls): the primitives and the Course, no ROS.
 
 The out-and-back rules are covered in test_out_and_back.py; here the open-
 loop steps, the square, and how steps chain.
@@ -11,10 +12,12 @@ from hypothesis import given, settings, strategies as st
 
 from ideal_robot import DT, IdealRobot, run
 from rbx1_nav.common import params
-from rbx1_nav.motion.course import (PRECISE_PARAMS, STOP, Approach, Command, Course,
-                             Drive, InFlight, Pause, Stalls, TimedDrive,
-                             TimedTurn, Turn, approach, legs_course,
-                             legs_params, pose_error)
+from rbx1_nav.motion.command import STOP, Command, pose_error
+from rbx1_nav.motion.course import Course, control_rates, legs_course, legs_params
+from rbx1_nav.motion.in_flight import InFlight
+from rbx1_nav.motion.precise import PRECISE_PARAMS, Approach, approach
+from rbx1_nav.motion.stalls import Stalls
+from rbx1_nav.motion.steps import Drive, Pause, TimedDrive, TimedTurn, Turn
 from rbx1_nav.transform_utils import Pose2D
 
 PRECISE = Approach(1.0, 4.0, 0.005, 0.01)
@@ -295,7 +298,6 @@ def test_distances_and_angles_have_upper_bounds(name, value, words):
 
 
 def test_control_rates_show_a_missed_second():
-    from rbx1_nav.motion.course import control_rates
     steady = [100.0 + 0.05 * k for k in range(201)]  # 10 s at 20 Hz
     mean, slowest = control_rates(steady)
     assert mean == pytest.approx(20.0) and slowest == 20
@@ -306,7 +308,6 @@ def test_control_rates_show_a_missed_second():
 
 
 def test_control_rates_count_ticks_on_whole_seconds_once():
-    from rbx1_nav.motion.course import control_rates
     # Far from zero, 8.71 + k * 0.05 rounds some whole seconds just under.
     ticks = [8.71 + k * 0.05 for k in range(401)]
     assert control_rates(ticks)[1] == 20

@@ -10,9 +10,9 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from ideal_robot import DT, IdealRobot, run
-from rbx1_nav.motion.book import (STOP, Command, CourseConfig, OutAndBack,
-                                   Pose2D, expected_end_pose, pose_error)
-from rbx1_nav.transform_utils import normalize_angle
+from rbx1_nav.motion.book import CourseConfig, OutAndBack, expected_end_pose
+from rbx1_nav.motion.command import STOP, Command, pose_error
+from rbx1_nav.transform_utils import Pose2D, normalize_angle
 
 def segments(rows):
     """Collapse rows into (kind, start time, end time) runs.

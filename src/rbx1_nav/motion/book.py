@@ -1,28 +1,55 @@
-"""The odometry out-and-back course of ROS By Example, on the motion core.
+"""The courses of ROS By Example's motion nodes, with the book's defaults.
 
-No rospy here. The course is [drive ``goal_distance``, pause, turn
-``goal_angle``, pause] x ``legs`` (:func:`rbx1_nav.motion.course.legs_course`);
-the rules for drives, turns, the tolerance and precise mode are those of
-:mod:`rbx1_nav.motion.course`. The node ``nodes/odom_out_and_back.py`` reads the
-same settings as private parameters (``~angular_tolerance`` in degrees, as in
-the book; radians here) and runs the course through ``rbx1_nav.motion.runner_ros``.
+No rospy here. Each of the book's course nodes is one :class:`BookCourse`:
+its parameters (the book's values as defaults), its control rate and how
+to build its :class:`rbx1_nav.motion.course.Course` from the values read:
+
+* :data:`OUT_AND_BACK` (``nodes/odom_out_and_back.py``): [drive
+  ``goal_distance``, pause, turn ``goal_angle``, pause] x ``legs``, closed
+  loop on odometry; ``~angular_tolerance`` in degrees, as in the book;
+* :data:`NAV_SQUARE` (``nodes/nav_square.py``): the same, four legs,
+  ``~goal_angle`` and ``~angular_tolerance`` in degrees;
+* :data:`TIMED_OUT_AND_BACK` (``nodes/timed_out_and_back.py``): the
+  out-and-back open loop on time, one control period per cycle.
+
+The rules for drives, turns, the tolerance and precise mode are those of
+:mod:`rbx1_nav.motion.steps` and :mod:`rbx1_nav.motion.precise`; the
+courses are :func:`rbx1_nav.motion.course.legs_course`. The nodes run them
+through ``rbx1_nav.motion.runner_ros``. For tests, :class:`CourseConfig`
+and :class:`OutAndBack` hold the out-and-back with its angles in radians.
 """
 import math
+from collections import namedtuple
 
 from rbx1_nav.common import params
-from rbx1_nav.motion.course import (PRECISE_PARAMS, STOP, Command, Course,
-                             approach, legs_course, legs_params, pose_error)
-from rbx1_nav.transform_utils import Pose2D
+from rbx1_nav.motion.course import Course, legs_course, legs_params
+from rbx1_nav.motion.precise import PRECISE_PARAMS, approach
 
-__all__ = ['Pose2D', 'Command', 'STOP', 'CourseConfig', 'OutAndBack',
-           'expected_end_pose', 'pose_error', 'COURSE_PARAMS']
+__all__ = ['BookCourse', 'OUT_AND_BACK', 'NAV_SQUARE', 'TIMED_OUT_AND_BACK',
+           'CourseConfig', 'OutAndBack', 'expected_end_pose', 'COURSE_PARAMS']
 
-# The course's settings with the book's values; angular_tolerance in radians.
-COURSE_PARAMS = legs_params(
-    linear_speed=0.15, goal_distance=1.0, angular_speed=0.5,
-    goal_angle=math.pi, angular_tolerance=math.radians(1.0),
-    tolerance_unit='rad', legs=2,
-    pause=1.0) + PRECISE_PARAMS
+BookCourse = namedtuple('BookCourse', 'params rate build')
+BookCourse.__doc__ = """One of the book's course nodes.
+
+params: its course's parameters (the runner's come on top); rate (Hz): the
+book's control rate; build(values): its Course from the values read.
+"""
+
+
+def _out_and_back_params(tolerance_unit):
+    """The out-and-back's parameters, ``angular_tolerance`` in
+    ``tolerance_unit`` ('deg' on the parameter server, 'rad' here)."""
+    tolerance = 1.0  # deg
+    if tolerance_unit == 'rad':
+        tolerance = math.radians(tolerance)
+    return legs_params(
+        linear_speed=0.15, goal_distance=1.0, angular_speed=0.5,
+        goal_angle=math.pi, angular_tolerance=tolerance,
+        tolerance_unit=tolerance_unit, legs=2, pause=1.0) + PRECISE_PARAMS
+
+
+# The out-and-back's settings with the book's values; angular_tolerance in radians.
+COURSE_PARAMS = _out_and_back_params('rad')
 
 
 class CourseConfig(object):
@@ -83,3 +110,46 @@ class OutAndBack(Course):
     def leg(self):
         """The leg under way (the last one once done)."""
         return min(self.index // 4, self.config.legs - 1) + 1
+
+
+def _out_and_back(values):
+    """The out-and-back of the node's values (angular_tolerance in degrees)."""
+    settings = {spec.name: values[spec.name] for spec in COURSE_PARAMS}
+    settings['angular_tolerance'] = math.radians(values['angular_tolerance'])
+    return OutAndBack(CourseConfig(**settings))
+
+
+OUT_AND_BACK = BookCourse(_out_and_back_params('deg'), 20.0, _out_and_back)
+
+
+SIDES = 4  # nav_square's legs
+
+
+def _nav_square(values):
+    """The square of the node's values (angles in degrees)."""
+    return Course(legs_course(
+        values['goal_distance'], math.radians(values['goal_angle']), SIDES,
+        values['linear_speed'], values['angular_speed'],
+        math.radians(values['angular_tolerance']), values['pause'],
+        approach(values)))
+
+
+NAV_SQUARE = BookCourse(
+    legs_params(linear_speed=0.2, goal_distance=1.0, angular_speed=0.7,
+                goal_angle=90.0, angle_unit='deg', angular_tolerance=2.0,
+                pause=1.0) + PRECISE_PARAMS,
+    20.0, _nav_square)
+
+
+def _timed_out_and_back(values):
+    """The out-and-back open loop on time, one control period (1 / rate) a cycle."""
+    return Course(legs_course(values['goal_distance'], values['goal_angle'],
+                              values['legs'], values['linear_speed'],
+                              values['angular_speed'], pause=values['pause'],
+                              period=1.0 / values['rate']))
+
+
+TIMED_OUT_AND_BACK = BookCourse(
+    legs_params(linear_speed=0.2, goal_distance=1.0, angular_speed=1.0,
+                goal_angle=math.pi, legs=2, pause=1.0),
+    50.0, _timed_out_and_back)

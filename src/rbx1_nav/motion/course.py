@@ -1,104 +1,48 @@
-"""Motion primitives and the course that runs them: the logic of every motion node.
+"""The course: a list of steps run one control cycle at a time, the logic of every motion node.
 
-No rospy here. A course is a list of steps, run one after the other:
+No rospy here. A course is a list of steps (:mod:`rbx1_nav.motion.steps`:
+drive, turn, pause; closed loop on odometry or open loop on time), run one
+after the other. The ROS side (``rbx1_nav.motion.runner_ros``) calls
+:meth:`Course.update` once per control cycle with the latest pose and ROS
+time and publishes the :class:`rbx1_nav.motion.command.Command` it
+returns; tests drive the same class with a simulated robot and a fake
+clock. The book's courses (:mod:`rbx1_nav.motion.book`) are lists of these
+steps: out-and-back is [drive 1 m, turn pi] x 2, the square [drive 1 m,
+turn pi/2] x 4, a linear calibration [drive d], an angular one [turn 2 pi];
+:func:`legs_course` builds them and :func:`legs_params` declares their
+parameters.
 
-* :class:`Drive` a distance and :class:`Turn` an angle, closed loop on
-  odometry (the pose fed in each cycle);
-* :class:`TimedDrive` and :class:`TimedTurn`, open loop on time: the
-  speed for ``distance / speed`` seconds, as the book's timed course does;
-* :class:`Pause`, the robot stopped for a time.
-
-The ROS side (``rbx1_nav.motion.runner_ros``) calls :meth:`Course.update` once per
-control cycle with the latest pose and ROS time and publishes the
-:class:`Command` it returns; tests drive the same class with a simulated
-robot and a fake clock. The book's courses are lists of these steps:
-out-and-back is [drive 1 m, turn pi] x 2, the square [drive 1 m, turn
-pi/2] x 4, a linear calibration [drive d], an angular one [turn 2 pi].
-
-Rules shared by every course, as in the book:
-
-* a drive measures the straight-line distance from where it began;
-* a turn adds up ``normalize_angle`` of each change in yaw, so it works
-  across the +-pi wrap and for turns of pi or more, and counts from where
-  the previous drive or turn ended (rotation while stopping counts);
-* a closed-loop step ends once it has reached its goal less its
-  ``tolerance`` (measured in the step's own direction, so a clockwise turn
-  stops equally early); the cycle that ends it commands a stop;
-* precise mode (an :class:`Approach`) slows down near each goal (speed
-  proportional to what remains, never below a creep speed), holds the
-  drive's starting heading, and ignores the tolerance; it also steers by
-  where the robot will be when its command lands, not by where an old pose
-  says it was (:class:`InFlight`), and checks each goal once the robot
-  stands still, going back or on when it missed (``_OnOdometry``); and it
-  raises its creep speed where the robot will not move at it
-  (:class:`Breakaway`).
+The course keeps what the steps share: the yaw turned since the start
+(the turns count on it), the commands in flight (a course with a precise
+step steers by where the robot will be when its command lands,
+:class:`rbx1_nav.motion.in_flight.InFlight`), the stalls
+(:class:`rbx1_nav.motion.stalls.Stalls`) and the creep speeds precise mode
+learned (:class:`rbx1_nav.motion.precise.Breakaway`).
 """
-import bisect
 import math
-from collections import deque, namedtuple
+from collections import namedtuple
 
 from rbx1_nav.common import params
-from rbx1_nav.common.geometry import arc_step
 from rbx1_nav.common.params import param
+from rbx1_nav.motion.command import (DONE, DRIVE, MAX_ANGLE, MAX_ANGULAR_SPEED,
+                                     MAX_DISTANCE, MAX_LINEAR_SPEED,
+                                     MAX_TOLERANCE, PAUSE, STOP, TURN)
+from rbx1_nav.motion.in_flight import InFlight
+from rbx1_nav.motion.precise import Breakaway
+from rbx1_nav.motion.stalls import Stalls
+from rbx1_nav.motion.steps import Drive, Pause, TimedDrive, TimedTurn, Turn
 from rbx1_nav.transform_utils import Pose2D, normalize_angle
 
-__all__ = ['Command', 'STOP', 'Approach', 'Drive', 'Turn', 'TimedDrive',
-           'TimedTurn', 'Pause', 'Course', 'InFlight', 'Stalls', 'Breakaway',
-           'legs_course',
-           'pose_error', 'MAX_LINEAR_SPEED', 'MAX_ANGULAR_SPEED', 'PRECISE_PARAMS',
-           'approach', 'legs_params']
+__all__ = ['Course', 'Reading', 'legs_course', 'legs_params', 'control_rates']
 
-Command = namedtuple('Command', 'linear angular')
-Command.__doc__ = 'A velocity command: forward speed (m/s), turn rate (rad/s).'
+Reading = namedtuple('Reading', 'stamp pose delay held')
+Reading.__doc__ = """What odometry said last, as a precise step's stall watch reads it.
 
-STOP = Command(0.0, 0.0)
-
-DRIVE, TURN, PAUSE, DONE = 'drive', 'turn', 'pause', 'done'
-
-# Upper bounds that no TurtleBot-class course needs; past them a value is a
-# typo (or a unit mix-up) and the robot must not move.
-MAX_LINEAR_SPEED = 2.0           # m/s
-MAX_ANGULAR_SPEED = 2 * math.pi  # rad/s
-MAX_DISTANCE = 100.0             # m, one drive
-MAX_ANGLE = 4 * math.pi          # rad, one turn (two full turns)
-MAX_TOLERANCE = math.pi / 2      # rad
-
-
-Approach = namedtuple('Approach', 'gain heading_gain min_linear_speed '
-                                  'min_angular_speed')
-Approach.__doc__ = """Precise mode's settings.
-
-gain (1/s): speed = gain * what remains, clamped between the creep speed
-(min_linear_speed m/s, min_angular_speed rad/s) and the step's speed;
-heading_gain (1/s) turns a drive's heading error into a turn rate.
+stamp (s) and pose: the pose last fed in, as read (before any
+prediction); delay (s): the command delay assumed
+(:attr:`rbx1_nav.motion.in_flight.InFlight.delay`); held (s): the last
+time :meth:`Course.hold` was called.
 """
-
-
-# Precise mode's settings, shared by every closed-loop course node.
-PRECISE_PARAMS = (
-    param('precise', False, params.flag,
-          doc='slow down near each goal, hold heading, ignore the tolerance, '
-              'check each goal on a still robot'),
-    param('precise_gain', 1.0, params.number, '/s',
-          'approach speed = gain x what remains', **params.POSITIVE),
-    param('precise_heading_gain', 4.0, params.number, '/s',
-          'turn rate per radian of heading error while driving', **params.POSITIVE),
-    param('precise_min_linear_speed', 0.005, params.number, 'm/s',
-          'creep speed near a distance goal', maximum=MAX_LINEAR_SPEED,
-          **params.POSITIVE),
-    param('precise_min_angular_speed', 0.01, params.number, 'rad/s',
-          'creep speed near an angle goal', maximum=MAX_ANGULAR_SPEED,
-          **params.POSITIVE),
-)
-
-
-def approach(values):
-    """The :class:`Approach` of checked PRECISE_PARAMS values, or None."""
-    if not values['precise']:
-        return None
-    return Approach(values['precise_gain'], values['precise_heading_gain'],
-                    values['precise_min_linear_speed'],
-                    values['precise_min_angular_speed'])
 
 
 def legs_params(linear_speed, goal_distance, angular_speed, goal_angle,
@@ -139,457 +83,12 @@ def legs_params(linear_speed, goal_distance, angular_speed, goal_angle,
     return tuple(specs)
 
 
-def pose_error(actual, expected):
-    """(position error in m, heading error in rad) of one pose against another."""
-    return (math.hypot(actual.x - expected.x, actual.y - expected.y),
-            normalize_angle(actual.yaw - expected.yaw))
-
-
-def _clamp(value, low, high):
-    return max(low, min(high, value))
-
-
-class Step(object):
-    """One primitive of a course; subclasses fill in the behaviour.
-
-    :meth:`begin` is called when the step becomes current (the cycle the
-    previous one ended), :meth:`update` every cycle from the next one on.
-    ``update`` returns the Command to send, or None when the step is over.
-    """
-
-    kind = None
-
-    def __init__(self, label=''):
-        self.label = label
-        self.began = None
-
-    def begin(self, course, pose, now):
-        self.began = now
-
-    def update(self, course, pose, now):
-        raise NotImplementedError
-
-    def ideal_end(self, pose):
-        """Where a perfect robot stands after this step, begun at ``pose``."""
-        return pose
-
-    def _event(self, course, text, now, note=''):
-        course.log('%s%s in %.1f s%s' % (self.label + ': ' if self.label else '',
-                                         text, now - self.began, note))
-
-
-class Pause(Step):
-    """Stand still for ``duration`` seconds."""
-
-    kind = PAUSE
-
-    def __init__(self, duration, label=''):
-        Step.__init__(self, label)
-        self.duration = float(duration)
-
-    def update(self, course, pose, now):
-        return STOP if now < self.began + self.duration else None
-
-
-class _Drive(Step):
-    """What every drive has: a goal (m, negative: backwards) and a speed."""
-
-    kind, verb = DRIVE, 'drove'
-
-    def __init__(self, distance, speed, label=''):
-        Step.__init__(self, label)
-        self.goal, self.speed = float(distance), abs(float(speed))
-
-    @staticmethod
-    def command(speed):
-        return Command(speed, 0.0)
-
-    @staticmethod
-    def size(metres):
-        return '%.3f m' % metres
-
-    def ideal_end(self, pose):
-        return Pose2D(pose.x + self.goal * math.cos(pose.yaw),
-                      pose.y + self.goal * math.sin(pose.yaw), pose.yaw)
-
-
-class _Turn(Step):
-    """What every turn has: a goal (rad, negative: clockwise) and a speed."""
-
-    kind, verb = TURN, 'turned'
-
-    def __init__(self, angle, speed, label=''):
-        Step.__init__(self, label)
-        self.goal, self.speed = float(angle), abs(float(speed))
-
-    @staticmethod
-    def command(speed):
-        return Command(0.0, speed)
-
-    @staticmethod
-    def size(radians):
-        return '%.1f deg' % math.degrees(radians)
-
-    def ideal_end(self, pose):
-        return Pose2D(pose.x, pose.y, normalize_angle(pose.yaw + self.goal))
-
-
-class Breakaway(object):
-    """Precise mode's creep speeds, raised where the robot will not move.
-
-    Real wheels stick below a breakaway speed (static friction, a motor
-    deadband; a skid-steer base turning on the spot needs far more), and a
-    precise step creeping below it would wait for ever. When a precise
-    step slowing down to its goal has commanded a speed below its own for
-    STILL s since the command reached the robot, and odometry moved under a
-    tenth of that (as :class:`Stalls` counts a stall), the step raises its
-    creep speed to FACTOR times the command (at most the step's speed), and
-    again until the robot moves. Then the course logs the new minimum once,
-    and every later drive (or turn) of the course creeps at it or faster:
-    ``speeds`` holds it per kind. A runner hands the same object to each
-    course it drives, so later courses keep it too.
-    """
-
-    STILL = 0.5  # s
-    FACTOR = 1.5
-
-    def __init__(self):
-        self.speeds = {DRIVE: 0.0, TURN: 0.0}  # the learned minima
-        self.pending = {}  # kind: speed stalled at, until motion shows
-
-    def raise_to(self, kind, stalled, speed):
-        """The robot stood still at ``stalled``; creep at ``speed`` now."""
-        self.pending.setdefault(kind, stalled)
-        self.speeds[kind] = max(self.speeds[kind], speed)
-
-    def moved(self, kind, course, unit):
-        """The robot moved: log a new minimum once."""
-        stalled = self.pending.pop(kind, None)
-        if stalled is not None:
-            name = 'linear' if kind == DRIVE else 'angular'
-            course.log('precise mode: the robot stood still at %.4g %s and '
-                       'moved at %.4g %s, below its breakaway speed; creeping '
-                       'at %.4g %s or faster from now on (set '
-                       '~precise_min_%s_speed to it to start there)'
-                       % (stalled, unit, self.speeds[kind], unit,
-                          self.speeds[kind], unit, name))
-
-
-class _OnOdometry(object):
-    """Closed loop on odometry: a mixin for Drive and Turn.
-
-    They define ``remaining`` (what is left of the goal, negative past it),
-    ``moving`` (the command at a speed along the goal, negative: back),
-    ``advance`` (the progress between two poses) and ``approach``'s creep
-    speed. Precise mode raises a creep speed the robot will not move at
-    (:class:`Breakaway`) and checks each goal
-    on a still robot: once the stop it sent at the goal has reached the
-    robot and SETTLE s have passed since the last motion its odometry
-    showed (LONGEST s at most), a goal missed by more than CHECK s of creep
-    is approached again, from whichever side, at most MAX_CORRECTIONS
-    times (a late stop on a slow link, a robot that coasts).
-    """
-
-    SETTLE = 0.1  # s
-    LONGEST = 1.0  # s
-    CHECK = 0.1  # s of creep
-    MAX_CORRECTIONS = 3
-
-    def __init__(self, tolerance, approach):
-        self.tolerance = float(tolerance)
-        self.approach = approach
-        self.sense = 1.0  # 1: short of the goal; -1: back from past it
-        self.stopped = None  # when precise mode sent the stop to check
-        self.corrections = 0
-        self.mark = None  # (time sent, pose): where a stall watch began
-
-    def update(self, course, pose, now):
-        remaining = self.remaining(course, pose)
-        ap = self.approach
-        if ap is None:
-            if remaining - self.tolerance <= 0.0:
-                return self._end(course, now)
-            return self.moving(course, pose, self.speed)
-        if self.stopped is None:
-            if remaining * self.sense > 0.0:
-                speed = _clamp(ap.gain * abs(remaining), self.creep(course),
-                               self.speed)
-                speed = self._unstick(course, now, speed)
-                return self.moving(course, pose, self.sense * speed)
-            self.stopped, self.mark = now, None
-        if not course.settled(self.stopped, self.SETTLE, self.LONGEST):
-            return STOP
-        if abs(remaining) <= self.creep(course) * self.CHECK:
-            return self._end(course, now)
-        if self.corrections == self.MAX_CORRECTIONS:
-            return self._end(course, now, remaining)
-        self.corrections += 1
-        self.stopped, self.sense = None, math.copysign(1.0, remaining)
-        return self.update(course, pose, now)
-
-    def creep(self, course):
-        """The creep speed: precise mode's, or the breakaway speed learned
-        (:class:`Breakaway`), at most the step's speed."""
-        minimum = (self.approach.min_linear_speed if self.kind == DRIVE
-                   else self.approach.min_angular_speed)
-        return min(self.speed, max(minimum, course.breakaway.speeds[self.kind]))
-
-    def _unstick(self, course, now, speed):
-        """``speed``, or more where the robot stood still at it
-        (:class:`Breakaway`), judged on the poses odometry gave, not on
-        their predictions."""
-        mark = self.mark
-        if mark is None or course.held >= mark[0]:  # a new watch
-            self.mark = (now, course.raw)
-            return speed
-        landed = mark[0] + course.in_flight.delay
-        elapsed = course.stamp - landed
-        if elapsed < Breakaway.STILL:
-            return speed
-        self.mark = (now, course.raw)
-        unit = 'm/s' if self.kind == DRIVE else 'rad/s'
-        if self.sense * self.advance(mark[1], course.raw) >= 0.1 * speed * elapsed:
-            course.breakaway.moved(self.kind, course, unit)
-            return speed
-        if speed >= self.speed:
-            return speed  # not a creep: a watchdog or a bumper (Stalls)
-        raised = min(self.speed, Breakaway.FACTOR * speed)
-        course.breakaway.raise_to(self.kind, speed, raised)
-        course.stalls.excuse(course.stamp + Breakaway.STILL)
-        return raised
-
-    def _end(self, course, now, missed=None):
-        """Log the step's end (with its corrections) and end it."""
-        note = ''
-        if self.corrections:
-            note = ' after %d correction%s' % (self.corrections,
-                                               's' * (self.corrections > 1))
-        if missed is not None:
-            note += ', still %s off' % self.size(missed)
-        self._event(course, '%s %s' % (self.verb, self.size(self.done(course))),
-                    now, note)
-        return None
-
-
-class Drive(_OnOdometry, _Drive):
-    """Drive ``distance`` metres (negative: backwards) on odometry."""
-
-    def __init__(self, distance, speed, tolerance=0.0, approach=None,
-                 heading_rate=MAX_ANGULAR_SPEED, label=''):
-        _Drive.__init__(self, distance, speed, label)
-        _OnOdometry.__init__(self, tolerance, approach)
-        self.heading_rate = float(heading_rate)  # precise mode's turn rate cap
-        self.start = None
-
-    def begin(self, course, pose, now):
-        Step.begin(self, course, pose, now)
-        self.start = pose
-
-    def remaining(self, course, pose):
-        course.distance = math.hypot(pose.x - self.start.x,
-                                     pose.y - self.start.y)
-        return abs(self.goal) - course.distance
-
-    @staticmethod
-    def done(course):
-        return course.distance
-
-    def advance(self, before, after):
-        """How much farther from the start ``after`` is than ``before``."""
-        return (math.hypot(after.x - self.start.x, after.y - self.start.y)
-                - math.hypot(before.x - self.start.x, before.y - self.start.y))
-
-    def moving(self, course, pose, speed):
-        angular = 0.0
-        if self.approach:
-            heading_error = normalize_angle(pose.yaw - self.start.yaw)
-            angular = _clamp(-self.approach.heading_gain * heading_error,
-                             -self.heading_rate, self.heading_rate)
-        return Command(math.copysign(1.0, self.goal) * speed, angular)
-
-
-class Turn(_OnOdometry, _Turn):
-    """Turn ``angle`` radians (negative: clockwise) on odometry."""
-
-    def __init__(self, angle, speed, tolerance=0.0, approach=None, label=''):
-        _Turn.__init__(self, angle, speed, label)
-        _OnOdometry.__init__(self, tolerance, approach)
-        self.anchor = None
-
-    def begin(self, course, pose, now):
-        Step.begin(self, course, pose, now)
-        self.anchor = course.motion_end_yaw
-
-    def remaining(self, course, pose):
-        course.turned = course.yaw_total - self.anchor
-        return abs(self.goal) - course.turned * math.copysign(1.0, self.goal)
-
-    @staticmethod
-    def done(course):
-        return course.turned
-
-    def advance(self, before, after):
-        """The turn from ``before`` to ``after`` in the goal's direction."""
-        return math.copysign(1.0, self.goal) * normalize_angle(after.yaw - before.yaw)
-
-    def moving(self, course, pose, speed):
-        return self.command(math.copysign(1.0, self.goal) * speed)
-
-
-class _Timed(object):
-    """Open loop: the step's speed for |goal| / speed seconds of ROS time.
-
-    A mixin for _Drive and _Turn. The clock starts at the step's first
-    command. The last cycle commands the fraction of the speed that the
-    remaining time (less than one ``period``) calls for, so the commanded
-    distance or angle is exact whatever the phase of the control ticks.
-    """
-
-    def __init__(self, period):
-        self.period = float(period)
-        self.first = None
-
-    def update(self, course, pose, now):
-        if self.first is None:
-            self.first = now
-        remaining = abs(self.goal) / self.speed - (now - self.first)
-        if remaining <= 1e-9:
-            self._event(course, '%s %s open loop' % (self.verb, self.size(self.goal)),
-                        now)
-            return None
-        fraction = min(1.0, remaining / self.period)
-        return self.command(math.copysign(self.speed * fraction, self.goal))
-
-
-class TimedDrive(_Timed, _Drive):
-    """Drive ``distance`` at ``speed`` for distance / speed seconds."""
-
-    def __init__(self, distance, speed, period, label=''):
-        _Drive.__init__(self, distance, speed, label)
-        _Timed.__init__(self, period)
-
-
-class TimedTurn(_Timed, _Turn):
-    """Turn ``angle`` at ``speed`` for angle / speed seconds."""
-
-    def __init__(self, angle, speed, period, label=''):
-        _Turn.__init__(self, angle, speed, label)
-        _Timed.__init__(self, period)
-
-
-class InFlight(object):
-    """The commands sent, and where they will have taken the robot.
-
-    A pose read over a slow link is ``age`` seconds old, and the command
-    sent now takes effect some ``delay`` later. From the pose's stamp until
-    then the robot follows the commands sent from ``stamp - delay`` until
-    now: :meth:`predict` adds their arcs onto the pose. The pose alone
-    cannot tell the command delay, so it is taken as the link's delay the
-    other way: the smallest age of the last ``memory`` readings (a reading
-    is older than the link's delay when it waited for the control tick).
-    """
-
-    KEEP = 10.0  # s of commands kept
-
-    def __init__(self, memory=20):
-        self.sent = []  # (time sent, Command), oldest first
-        self.times = []  # the times of self.sent, for bisect
-        self.ages = deque(maxlen=memory)
-
-    @property
-    def delay(self):
-        """The command delay assumed (s)."""
-        return min(self.ages, default=0.0)
-
-    def read(self, age):
-        """A pose ``age`` s old was read."""
-        self.ages.append(max(0.0, age))
-
-    def record(self, now, command):
-        """The command sent at ``now`` (s)."""
-        self.sent.append((now, command))
-        self.times.append(now)
-        while len(self.sent) > 1 and self.times[1] < now - self.KEEP:
-            del self.sent[0], self.times[0]
-
-    def command_at(self, when):
-        """The command the robot runs at ``when`` (s): the last one sent
-        by ``when - delay``; STOP before the first."""
-        ran = bisect.bisect_right(self.times, when - self.delay)
-        return self.sent[ran - 1][1] if ran else STOP
-
-    def predict(self, pose, now, age):
-        """``pose``, read at ``now`` and ``age`` s old, moved on by the
-        commands in flight."""
-        start = now - age - self.delay
-        ends = [t for t, _ in self.sent[1:]] + [now]
-        for (sent, command), end in zip(self.sent, ends):
-            seconds = min(end, now) - max(sent, start)
-            if seconds > 0.0:
-                pose = arc_step(pose, command.linear * seconds,
-                                command.angular * seconds)
-        return pose
-
-
-class Stalls(object):
-    """Spells when the robot stood still while its commands moved it.
-
-    A robot's watchdog stops it when commands stop arriving (lost or late
-    on the link); motors switched off or a bumper hold it too. Fed the
-    velocity the robot's odometry measured, this counts the spells of at
-    least ``minimum`` seconds when every commanded speed (of the command
-    :class:`InFlight` says the robot runs then) was measured at under a
-    tenth of itself. ``moved`` is the stamp of the latest velocity that
-    was not standing still (over 0.1 mm/s or 0.01 deg/s), None before.
-    """
-
-    STILL = (1e-4, 2e-4)  # m/s, rad/s
-
-    def __init__(self, in_flight, minimum=0.1):
-        self.in_flight = in_flight
-        self.minimum = minimum
-        self.count = 0
-        self.seconds = 0.0
-        self.since = None  # start of the current spell
-        self.moved = None
-        self.excused = -math.inf  # a spell counts from here on at the earliest
-
-    def velocity(self, stamp, linear, angular):
-        """The robot's measured velocity at ``stamp`` (s); returns the
-        length of a spell that just ended (s), else None."""
-        if abs(linear) > self.STILL[0] or abs(angular) > self.STILL[1]:
-            self.moved = max(stamp, self.moved or stamp)
-        commanded = self.in_flight.command_at(stamp)
-        pairs = [(abs(m), abs(c)) for m, c in ((linear, commanded.linear),
-                                               (angular, commanded.angular)) if c]
-        if pairs and all(measured < 0.1 * command for measured, command in pairs):
-            if self.since is None:
-                self.since = stamp
-            return None
-        return self.end(stamp)
-
-    def excuse(self, until):
-        """Standing still until ``until`` (s) is explained (precise mode
-        found the robot's breakaway speed): not a spell."""
-        self.excused = max(self.excused, until)
-
-    def end(self, stamp):
-        """Close a spell at ``stamp``; its length (s) if it counts, else None."""
-        since, self.since = self.since, None
-        if since is not None:
-            since = max(since, self.excused)
-        if since is None or stamp - since < self.minimum:
-            return None
-        self.count += 1
-        self.seconds += stamp - since
-        return stamp - since
-
-
 class Course(object):
     """Run a list of steps one control cycle at a time.
 
     Call :meth:`update` with the latest pose and the time (seconds, any
-    origin); it returns the :class:`Command` to send until the next call.
+    origin); it returns the :class:`rbx1_nav.motion.command.Command` to
+    send until the next call.
     :attr:`done` turns true after the last step; from then on every command
     is :data:`STOP`. :meth:`pop_events` hands over progress lines for the
     log. ``yaw_total`` is the yaw turned since the start (unwrapped),
@@ -599,6 +98,11 @@ class Course(object):
     stood still while commanded to move, from the velocities fed to it;
     ``breakaway`` holds the creep speeds precise steps learned
     (:class:`Breakaway`; a runner may set its own before the first update).
+
+    Steps read ``yaw_total`` and ``motion_end_yaw`` (the yaw total when the
+    latest drive or turn ended); precise mode reads :meth:`reading` and
+    :meth:`settled` and reports to ``breakaway``, ``stalls`` and
+    :meth:`log` (:class:`rbx1_nav.motion.precise.PreciseMode`).
     """
 
     def __init__(self, steps):
@@ -614,8 +118,6 @@ class Course(object):
         self._last_yaw = None
         self.yaw_total = 0.0
         self.motion_end_yaw = 0.0
-        self.turned = 0.0
-        self.distance = 0.0
         self.stamp = None  # of the pose last fed in (s)
         self.raw = None  # that pose, as read (before any prediction)
         self.held = -math.inf  # the last time hold() was called (s)
@@ -628,6 +130,22 @@ class Course(object):
     def done(self):
         """True once the whole course, final pause included, is over."""
         return self.index >= len(self.steps)
+
+    @property
+    def turned(self):
+        """The yaw (rad) the latest closed-loop turn measured; 0 before one."""
+        return self._progress(TURN)
+
+    @property
+    def distance(self):
+        """The distance (m) the latest closed-loop drive measured; 0 before one."""
+        return self._progress(DRIVE)
+
+    def _progress(self, kind):
+        for step in reversed(self.steps[:self.index + 1]):
+            if step.kind == kind and step.progress is not None:
+                return step.progress
+        return 0.0
 
     @property
     def phase(self):
@@ -681,6 +199,10 @@ class Course(object):
         self._now = self.held = float(now)
         self.in_flight.record(self._now, STOP)
         return STOP
+
+    def reading(self):
+        """What odometry said last: a :class:`Reading`."""
+        return Reading(self.stamp, self.raw, self.in_flight.delay, self.held)
 
     def settled(self, sent, settle, longest):
         """True once the pose steered by is stamped ``settle`` s after the

@@ -36,7 +36,9 @@ from nav_msgs.msg import Odometry
 from rbx1_nav.common import params
 from rbx1_nav.motion.dropouts import HOLD, LOST, Dropouts
 from rbx1_nav.common.ros_time import time_moved_back_text
-from rbx1_nav.motion.course import Breakaway, control_rates, pose_error
+from rbx1_nav.motion.command import pose_error
+from rbx1_nav.motion.course import control_rates
+from rbx1_nav.motion.precise import Breakaway
 from rbx1_nav.common.params import param
 from rbx1_nav.common import lockstep_member_ros as lockstep
 from rbx1_nav.common.publish_ros import from_ns, synchronous_publisher, to_ns

@@ -1,0 +1,199 @@
+"""Precise mode: how a closed-loop drive or turn ends within millimetres.
+
+No rospy here. The steps (:mod:`rbx1_nav.motion.steps`) run on odometry;
+with an :class:`Approach` each hands its cycles to a :class:`PreciseMode`,
+which
+
+* slows down near the goal (speed proportional to what remains, never
+  below a creep speed) and ignores the step's tolerance;
+* checks the goal once the robot stands still, going back or on when it
+  missed;
+* raises its creep speed where the robot will not move at it
+  (:class:`Breakaway`).
+
+The drive also holds its starting heading (``Drive.moving``), and the
+course steers a precise step by where the robot will be when its command
+lands (:class:`rbx1_nav.motion.in_flight.InFlight`). The ROS side reads
+:data:`PRECISE_PARAMS` in every closed-loop course node.
+"""
+import math
+from collections import namedtuple
+
+from rbx1_nav.common import params
+from rbx1_nav.common.params import param
+from rbx1_nav.motion.command import (DRIVE, MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED,
+                                     STOP, TURN, clamp)
+
+__all__ = ['Approach', 'PRECISE_PARAMS', 'approach', 'Breakaway', 'PreciseMode']
+
+
+Approach = namedtuple('Approach', 'gain heading_gain min_linear_speed '
+                                  'min_angular_speed')
+Approach.__doc__ = """Precise mode's settings.
+
+gain (1/s): speed = gain * what remains, clamped between the creep speed
+(min_linear_speed m/s, min_angular_speed rad/s) and the step's speed;
+heading_gain (1/s) turns a drive's heading error into a turn rate.
+"""
+
+
+# Precise mode's settings, shared by every closed-loop course node.
+PRECISE_PARAMS = (
+    param('precise', False, params.flag,
+          doc='slow down near each goal, hold heading, ignore the tolerance, '
+              'check each goal on a still robot'),
+    param('precise_gain', 1.0, params.number, '/s',
+          'approach speed = gain x what remains', **params.POSITIVE),
+    param('precise_heading_gain', 4.0, params.number, '/s',
+          'turn rate per radian of heading error while driving', **params.POSITIVE),
+    param('precise_min_linear_speed', 0.005, params.number, 'm/s',
+          'creep speed near a distance goal', maximum=MAX_LINEAR_SPEED,
+          **params.POSITIVE),
+    param('precise_min_angular_speed', 0.01, params.number, 'rad/s',
+          'creep speed near an angle goal', maximum=MAX_ANGULAR_SPEED,
+          **params.POSITIVE),
+)
+
+
+def approach(values):
+    """The :class:`Approach` of checked PRECISE_PARAMS values, or None."""
+    if not values['precise']:
+        return None
+    return Approach(values['precise_gain'], values['precise_heading_gain'],
+                    values['precise_min_linear_speed'],
+                    values['precise_min_angular_speed'])
+
+
+class Breakaway(object):
+    """Precise mode's creep speeds, raised where the robot will not move.
+
+    Real wheels stick below a breakaway speed (static friction, a motor
+    deadband; a skid-steer base turning on the spot needs far more), and a
+    precise step creeping below it would wait for ever. When a precise
+    step slowing down to its goal has commanded a speed below its own for
+    STILL s since the command reached the robot, and odometry moved under a
+    tenth of that (as :class:`rbx1_nav.motion.stalls.Stalls` counts a
+    stall), the step raises its creep speed to FACTOR times the command (at
+    most the step's speed), and again until the robot moves. Then the
+    course logs the new minimum once, and every later drive (or turn) of
+    the course creeps at it or faster: ``speeds`` holds it per kind. A
+    runner hands the same object to each course it drives, so later
+    courses keep it too.
+    """
+
+    STILL = 0.5  # s
+    FACTOR = 1.5
+
+    def __init__(self):
+        self.speeds = {DRIVE: 0.0, TURN: 0.0}  # the learned minima
+        self.pending = {}  # kind: speed stalled at, until motion shows
+
+    def raise_to(self, kind, stalled, speed):
+        """The robot stood still at ``stalled``; creep at ``speed`` now."""
+        self.pending.setdefault(kind, stalled)
+        self.speeds[kind] = max(self.speeds[kind], speed)
+
+    def moved(self, kind, log, unit):
+        """The robot moved: log a new minimum once, through ``log``."""
+        stalled = self.pending.pop(kind, None)
+        if stalled is not None:
+            name = 'linear' if kind == DRIVE else 'angular'
+            log('precise mode: the robot stood still at %.4g %s and '
+                'moved at %.4g %s, below its breakaway speed; creeping '
+                'at %.4g %s or faster from now on (set '
+                '~precise_min_%s_speed to it to start there)'
+                % (stalled, unit, self.speeds[kind], unit,
+                   self.speeds[kind], unit, name))
+
+
+class PreciseMode(object):
+    """Precise mode of one closed-loop step: approach, check, correct, unstick.
+
+    Each cycle the step measures what remains of its goal (negative past
+    it) and hands it to :meth:`update`, which returns the command, or None
+    once the step is over. The approach runs at ``gain`` x what remains,
+    between the creep speed (:meth:`creep`) and the step's speed, raised
+    where the robot will not move (:meth:`_unstick`, :class:`Breakaway`).
+    Past the goal it stops and checks on a still robot: once the stop has
+    reached the robot and SETTLE s have passed since the last motion its
+    odometry showed (LONGEST s at most), a goal missed by more than CHECK s
+    of creep is approached again, from whichever side, at most
+    MAX_CORRECTIONS times (a late stop on a slow link, a robot that coasts).
+
+    It sees its step through five names: ``kind`` (DRIVE or TURN),
+    ``speed`` (the step's, rad/s or m/s), ``advance(before, after)`` (the
+    progress between two poses along the goal), ``moving(pose, speed)``
+    (the command at a speed along the goal, negative: back) and
+    ``end(course, now, corrections, missed=None)``; and its course through
+    ``settled``, ``reading()`` (the pose odometry last gave, its stamp, the
+    command delay and the last hold), ``breakaway``, ``stalls`` and
+    ``log`` (see :class:`rbx1_nav.motion.course.Course`).
+    """
+
+    SETTLE = 0.1  # s
+    LONGEST = 1.0  # s
+    CHECK = 0.1  # s of creep
+    MAX_CORRECTIONS = 3
+
+    def __init__(self, approach):
+        self.approach = approach
+        self.sense = 1.0  # 1: short of the goal; -1: back from past it
+        self.stopped = None  # when the stop to check was sent
+        self.corrections = 0
+        self.mark = None  # (time sent, pose): where a stall watch began
+
+    def update(self, step, course, pose, now, remaining):
+        """The command for ``step``, ``remaining`` short of its goal, or
+        None when it is over."""
+        if self.stopped is None:
+            if remaining * self.sense > 0.0:
+                return self._approach(step, course, pose, now, remaining)
+            self.stopped, self.mark = now, None
+        if not course.settled(self.stopped, self.SETTLE, self.LONGEST):
+            return STOP
+        if abs(remaining) <= self.creep(step, course.breakaway) * self.CHECK:
+            return step.end(course, now, self.corrections)
+        if self.corrections == self.MAX_CORRECTIONS:
+            return step.end(course, now, self.corrections, remaining)
+        self.corrections += 1
+        self.stopped, self.sense = None, math.copysign(1.0, remaining)
+        return self._approach(step, course, pose, now, remaining)
+
+    def _approach(self, step, course, pose, now, remaining):
+        """Move towards the goal (in ``sense``), slowing down near it."""
+        speed = clamp(self.approach.gain * abs(remaining),
+                      self.creep(step, course.breakaway), step.speed)
+        speed = self._unstick(step, course, now, speed)
+        return step.moving(pose, self.sense * speed)
+
+    def creep(self, step, breakaway):
+        """The creep speed: precise mode's, or the breakaway speed learned
+        (:class:`Breakaway`), at most the step's speed."""
+        minimum = (self.approach.min_linear_speed if step.kind == DRIVE
+                   else self.approach.min_angular_speed)
+        return min(step.speed, max(minimum, breakaway.speeds[step.kind]))
+
+    def _unstick(self, step, course, now, speed):
+        """``speed``, or more where the robot stood still at it
+        (:class:`Breakaway`), judged on the poses odometry gave, not on
+        their predictions."""
+        read = course.reading()
+        mark = self.mark
+        if mark is None or read.held >= mark[0]:  # a new watch
+            self.mark = (now, read.pose)
+            return speed
+        landed = mark[0] + read.delay
+        elapsed = read.stamp - landed
+        if elapsed < Breakaway.STILL:
+            return speed
+        self.mark = (now, read.pose)
+        unit = 'm/s' if step.kind == DRIVE else 'rad/s'
+        if self.sense * step.advance(mark[1], read.pose) >= 0.1 * speed * elapsed:
+            course.breakaway.moved(step.kind, course.log, unit)
+            return speed
+        if speed >= step.speed:
+            return speed  # not a creep: a watchdog or a bumper (Stalls)
+        raised = min(step.speed, Breakaway.FACTOR * speed)
+        course.breakaway.raise_to(step.kind, speed, raised)
+        course.stalls.excuse(read.stamp + Breakaway.STILL)
+        return raised

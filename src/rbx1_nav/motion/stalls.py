@@ -1,0 +1,65 @@
+"""Stalls: the spells the robot stood still while commanded to move.
+
+No rospy here. Each :class:`rbx1_nav.motion.course.Course` has a
+:class:`Stalls`; the ROS side (``rbx1_nav.motion.runner_ros``) feeds it the
+velocities the robot's odometry measured and reports the count in its
+summary. Precise mode's creep speeds (:class:`rbx1_nav.motion.precise.Breakaway`)
+excuse the standing still they explain.
+"""
+import math
+
+__all__ = ['Stalls']
+
+
+class Stalls(object):
+    """Spells when the robot stood still while its commands moved it.
+
+    A robot's watchdog stops it when commands stop arriving (lost or late
+    on the link); motors switched off or a bumper hold it too. Fed the
+    velocity the robot's odometry measured, this counts the spells of at
+    least ``minimum`` seconds when every commanded speed (of the command
+    :class:`rbx1_nav.motion.in_flight.InFlight` says the robot runs then)
+    was measured at under a tenth of itself. ``moved`` is the stamp of the latest velocity that
+    was not standing still (over 0.1 mm/s or 0.01 deg/s), None before.
+    """
+
+    STILL = (1e-4, 2e-4)  # m/s, rad/s
+
+    def __init__(self, in_flight, minimum=0.1):
+        self.in_flight = in_flight
+        self.minimum = minimum
+        self.count = 0
+        self.seconds = 0.0
+        self.since = None  # start of the current spell
+        self.moved = None
+        self.excused = -math.inf  # a spell counts from here on at the earliest
+
+    def velocity(self, stamp, linear, angular):
+        """The robot's measured velocity at ``stamp`` (s); returns the
+        length of a spell that just ended (s), else None."""
+        if abs(linear) > self.STILL[0] or abs(angular) > self.STILL[1]:
+            self.moved = max(stamp, self.moved or stamp)
+        commanded = self.in_flight.command_at(stamp)
+        pairs = [(abs(m), abs(c)) for m, c in ((linear, commanded.linear),
+                                               (angular, commanded.angular)) if c]
+        if pairs and all(measured < 0.1 * command for measured, command in pairs):
+            if self.since is None:
+                self.since = stamp
+            return None
+        return self.end(stamp)
+
+    def excuse(self, until):
+        """Standing still until ``until`` (s) is explained (precise mode
+        found the robot's breakaway speed): not a spell."""
+        self.excused = max(self.excused, until)
+
+    def end(self, stamp):
+        """Close a spell at ``stamp``; its length (s) if it counts, else None."""
+        since, self.since = self.since, None
+        if since is not None:
+            since = max(since, self.excused)
+        if since is None or stamp - since < self.minimum:
+            return None
+        self.count += 1
+        self.seconds += stamp - since
+        return stamp - since

@@ -1,0 +1,288 @@
+"""The steps a course is made of: drive a distance, turn an angle, pause.
+
+No rospy here. A course (:class:`rbx1_nav.motion.course.Course`) runs
+these one after the other:
+
+* :class:`Drive` a distance and :class:`Turn` an angle, closed loop on
+  odometry (the pose fed in each cycle);
+* :class:`TimedDrive` and :class:`TimedTurn`, open loop on time: the
+  speed for ``distance / speed`` seconds, as the book's timed course does;
+* :class:`Pause`, the robot stopped for a time.
+
+Rules shared by every course, as in the book:
+
+* a drive measures the straight-line distance from where it began;
+* a turn adds up ``normalize_angle`` of each change in yaw (the course's
+  ``yaw_total``), so it works across the +-pi wrap and for turns of pi or
+  more, and counts from where the previous drive or turn ended (rotation
+  while stopping counts);
+* a closed-loop step ends once it has reached its goal less its
+  ``tolerance`` (measured in the step's own direction, so a clockwise turn
+  stops equally early); the cycle that ends it commands a stop;
+* with an :class:`rbx1_nav.motion.precise.Approach` a closed-loop step
+  runs in precise mode (:mod:`rbx1_nav.motion.precise`): it slows down
+  near its goal, ignores the tolerance and checks the goal on a still
+  robot; a drive also holds its starting heading.
+
+A drive or turn is a :class:`_Move` along an axis (:data:`LINEAR` or
+:data:`ANGULAR`: what is measured, how it is commanded and written);
+closed loop or open loop is the subclass.
+"""
+import math
+
+from rbx1_nav.motion.command import (DRIVE, MAX_ANGULAR_SPEED, PAUSE, STOP,
+                                     TURN, Command, clamp)
+from rbx1_nav.motion.precise import PreciseMode
+from rbx1_nav.transform_utils import Pose2D, normalize_angle
+
+__all__ = ['Step', 'Pause', 'Drive', 'Turn', 'TimedDrive', 'TimedTurn',
+           'LINEAR', 'ANGULAR']
+
+
+class Step(object):
+    """One primitive of a course; subclasses fill in the behaviour.
+
+    :meth:`begin` is called when the step becomes current (the cycle the
+    previous one ended), :meth:`update` every cycle from the next one on.
+    ``update`` returns the Command to send, or None when the step is over.
+    ``progress`` is what a closed-loop step has measured of its goal (m
+    driven or rad turned) at its latest update, None before or for other
+    steps.
+    """
+
+    kind = None
+    progress = None
+
+    def __init__(self, label=''):
+        self.label = label
+        self.began = None
+
+    def begin(self, course, pose, now):
+        self.began = now
+
+    def update(self, course, pose, now):
+        raise NotImplementedError
+
+    def ideal_end(self, pose):
+        """Where a perfect robot stands after this step, begun at ``pose``."""
+        return pose
+
+    def _event(self, course, text, now, note=''):
+        course.log('%s%s in %.1f s%s' % (self.label + ': ' if self.label else '',
+                                         text, now - self.began, note))
+
+
+class Pause(Step):
+    """Stand still for ``duration`` seconds."""
+
+    kind = PAUSE
+
+    def __init__(self, duration, label=''):
+        Step.__init__(self, label)
+        self.duration = float(duration)
+
+    def update(self, course, pose, now):
+        return STOP if now < self.began + self.duration else None
+
+
+class _Axis(object):
+    """What a drive or a turn moves along: its kind, how a speed along it
+    is commanded, how an amount of it is written, where a goal ends."""
+
+    def __init__(self, kind, verb, command, size, ideal_end):
+        self.kind, self.verb = kind, verb
+        self.command, self.size, self.ideal_end = command, size, ideal_end
+
+
+LINEAR = _Axis(
+    DRIVE, 'drove',
+    command=lambda speed: Command(speed, 0.0),
+    size=lambda metres: '%.3f m' % metres,
+    ideal_end=lambda pose, goal: Pose2D(pose.x + goal * math.cos(pose.yaw),
+                                        pose.y + goal * math.sin(pose.yaw),
+                                        pose.yaw))
+
+ANGULAR = _Axis(
+    TURN, 'turned',
+    command=lambda speed: Command(0.0, speed),
+    size=lambda radians: '%.1f deg' % math.degrees(radians),
+    ideal_end=lambda pose, goal: Pose2D(pose.x, pose.y,
+                                        normalize_angle(pose.yaw + goal)))
+
+
+class _Move(Step):
+    """What every drive and turn has: an ``axis``, a goal along it (m or
+    rad, negative: backwards or clockwise) and a speed."""
+
+    axis = None
+
+    def __init__(self, goal, speed, label=''):
+        Step.__init__(self, label)
+        self.goal, self.speed = float(goal), abs(float(speed))
+
+    @property
+    def kind(self):
+        return self.axis.kind
+
+    def ideal_end(self, pose):
+        return self.axis.ideal_end(pose, self.goal)
+
+
+class _OnOdometry(_Move):
+    """Closed loop on odometry: the base of :class:`Drive` and :class:`Turn`.
+
+    They define :meth:`measure` (the progress towards the goal, from the
+    course and the pose), :meth:`remaining` (what is left of the goal
+    after that progress, negative past it), :meth:`advance` (the progress
+    between two poses) and :meth:`moving` (the command at a speed along
+    the goal, negative: back). :meth:`update` measures, keeps the progress
+    in ``progress`` and ends the step by the tolerance rule, or, with an
+    ``approach``, hands the cycle to its :class:`PreciseMode`.
+    """
+
+    def __init__(self, goal, speed, tolerance, approach, label=''):
+        _Move.__init__(self, goal, speed, label)
+        self.tolerance = float(tolerance)
+        self.approach = approach
+        self.precise = PreciseMode(approach) if approach is not None else None
+
+    def update(self, course, pose, now):
+        self.progress = self.measure(course, pose)
+        remaining = self.remaining(self.progress)
+        if self.precise is not None:
+            return self.precise.update(self, course, pose, now, remaining)
+        if remaining - self.tolerance <= 0.0:
+            return self.end(course, now)
+        return self.moving(pose, self.speed)
+
+    def measure(self, course, pose):
+        raise NotImplementedError
+
+    def remaining(self, progress):
+        raise NotImplementedError
+
+    def advance(self, before, after):
+        raise NotImplementedError
+
+    def moving(self, pose, speed):
+        raise NotImplementedError
+
+    def end(self, course, now, corrections=0, missed=None):
+        """Log the step's end (with its corrections) and end it: None."""
+        note = ''
+        if corrections:
+            note = ' after %d correction%s' % (corrections, 's' * (corrections > 1))
+        if missed is not None:
+            note += ', still %s off' % self.axis.size(missed)
+        self._event(course, '%s %s' % (self.axis.verb, self.axis.size(self.progress)),
+                    now, note)
+        return None
+
+
+class Drive(_OnOdometry):
+    """Drive ``distance`` metres (negative: backwards) on odometry."""
+
+    axis = LINEAR
+
+    def __init__(self, distance, speed, tolerance=0.0, approach=None,
+                 heading_rate=MAX_ANGULAR_SPEED, label=''):
+        _OnOdometry.__init__(self, distance, speed, tolerance, approach, label)
+        self.heading_rate = float(heading_rate)  # precise mode's turn rate cap
+        self.start = None
+
+    def begin(self, course, pose, now):
+        _OnOdometry.begin(self, course, pose, now)
+        self.start = pose
+
+    def measure(self, course, pose):
+        """The straight-line distance from the start."""
+        return math.hypot(pose.x - self.start.x, pose.y - self.start.y)
+
+    def remaining(self, progress):
+        return abs(self.goal) - progress
+
+    def advance(self, before, after):
+        """How much farther from the start ``after`` is than ``before``."""
+        return (math.hypot(after.x - self.start.x, after.y - self.start.y)
+                - math.hypot(before.x - self.start.x, before.y - self.start.y))
+
+    def moving(self, pose, speed):
+        angular = 0.0
+        if self.approach:
+            heading_error = normalize_angle(pose.yaw - self.start.yaw)
+            angular = clamp(-self.approach.heading_gain * heading_error,
+                            -self.heading_rate, self.heading_rate)
+        return Command(math.copysign(1.0, self.goal) * speed, angular)
+
+
+class Turn(_OnOdometry):
+    """Turn ``angle`` radians (negative: clockwise) on odometry."""
+
+    axis = ANGULAR
+
+    def __init__(self, angle, speed, tolerance=0.0, approach=None, label=''):
+        _OnOdometry.__init__(self, angle, speed, tolerance, approach, label)
+        self.anchor = None
+
+    def begin(self, course, pose, now):
+        _OnOdometry.begin(self, course, pose, now)
+        self.anchor = course.motion_end_yaw
+
+    def measure(self, course, pose):
+        """The yaw turned (unwrapped) since the previous drive or turn ended."""
+        return course.yaw_total - self.anchor
+
+    def remaining(self, progress):
+        return abs(self.goal) - progress * math.copysign(1.0, self.goal)
+
+    def advance(self, before, after):
+        """The turn from ``before`` to ``after`` in the goal's direction."""
+        return math.copysign(1.0, self.goal) * normalize_angle(after.yaw - before.yaw)
+
+    def moving(self, pose, speed):
+        return self.axis.command(math.copysign(1.0, self.goal) * speed)
+
+
+class _Timed(_Move):
+    """Open loop: the step's speed for |goal| / speed seconds of ROS time.
+
+    The base of :class:`TimedDrive` and :class:`TimedTurn`. The clock
+    starts at the step's first command. The last cycle commands the
+    fraction of the speed that the remaining time (less than one
+    ``period``) calls for, so the commanded distance or angle is exact
+    whatever the phase of the control ticks.
+    """
+
+    def __init__(self, goal, speed, period, label=''):
+        _Move.__init__(self, goal, speed, label)
+        self.period = float(period)
+        self.first = None
+
+    def update(self, course, pose, now):
+        if self.first is None:
+            self.first = now
+        remaining = abs(self.goal) / self.speed - (now - self.first)
+        if remaining <= 1e-9:
+            self._event(course, '%s %s open loop'
+                        % (self.axis.verb, self.axis.size(self.goal)), now)
+            return None
+        fraction = min(1.0, remaining / self.period)
+        return self.axis.command(math.copysign(self.speed * fraction, self.goal))
+
+
+class TimedDrive(_Timed):
+    """Drive ``distance`` at ``speed`` for distance / speed seconds."""
+
+    axis = LINEAR
+
+    def __init__(self, distance, speed, period, label=''):
+        _Timed.__init__(self, distance, speed, period, label)
+
+
+class TimedTurn(_Timed):
+    """Turn ``angle`` at ``speed`` for angle / speed seconds."""
+
+    axis = ANGULAR
+
+    def __init__(self, angle, speed, period, label=''):
+        _Timed.__init__(self, angle, speed, period, label)
