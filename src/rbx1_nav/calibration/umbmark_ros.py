@@ -16,7 +16,7 @@ import rospy
 from rbx1_nav.calibration import umbmark
 from rbx1_nav.calibration.truth_ros import GroundTruth
 from rbx1_nav.common.node_ros import exit_node, start_node
-from rbx1_nav.motion.course import approach
+from rbx1_nav.motion.precise import approach
 from rbx1_nav.motion.runner_ros import CourseAborted, MotionRunner, guarded
 
 NAME = 'umbmark'

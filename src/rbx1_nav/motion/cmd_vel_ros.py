@@ -1,0 +1,80 @@
+"""The runner's cmd_vel side: the publisher, its counted sends, and the
+wait for the robot's driver to take the commands.
+
+Under lockstep each command is on its way before the tick's report
+(a synchronous publisher), and each is counted, so the simulator steps on
+only once it has them all. Before a course, :meth:`CmdVel.wait_for_listener`
+waits for a subscriber; when none comes it names the topics that do take
+Twist commands (a remap hint).
+"""
+import rospy
+from geometry_msgs.msg import Twist
+
+from rbx1_nav.common import lockstep_member_ros as lockstep
+from rbx1_nav.common.cmd_vel_watch_ros import watch_publishers
+from rbx1_nav.common.master_ros import topic_graph
+from rbx1_nav.common.publish_ros import synchronous_publisher
+from rbx1_nav.motion.aborted import CourseAborted
+from rbx1_nav.motion.deadline_ros import Deadline
+from rbx1_nav.motion.remap_hint import listener_hint
+
+
+class CmdVel(object):
+    """The ``cmd_vel`` publisher; ``member`` is the node's lockstep
+    Member (None: not under lockstep)."""
+
+    def __init__(self, member):
+        self.member = member
+        self.pub = (synchronous_publisher('cmd_vel', Twist)
+                    if member else
+                    rospy.Publisher('cmd_vel', Twist, queue_size=5, tcp_nodelay=True))
+
+    @property
+    def resolved_name(self):
+        return self.pub.resolved_name
+
+    def send(self, twist):
+        """Publish on cmd_vel, counted for lockstep (the simulator steps on
+        once it has them all)."""
+        self.pub.publish(twist)
+        if self.member is not None:
+            self.member.sent(self.pub.resolved_name)
+
+    def watch_publishers(self, name):
+        """Warn when another node publishes on this cmd_vel too
+        (rbx1_nav.common.cmd_vel_watch_ros)."""
+        watch_publishers(name, [self.pub.resolved_name], own=rospy.get_name())
+
+    def wait_for_listener(self, wait):
+        """Wait up to ``wait`` s (wall s under lockstep) for the driver to
+        subscribe to cmd_vel.
+
+        Commands published before the connection is made are lost, which
+        would shorten the first move of an open-loop course.
+        """
+        deadline = Deadline(wait, wall=self.member is not None)
+        while not self._listening():
+            if rospy.is_shutdown():
+                raise rospy.ROSInterruptException('shutdown while waiting')
+            if deadline.expired():
+                if self.pub.get_num_connections():
+                    raise CourseAborted(
+                        '/lockstep is set but the node taking %s (%s) is not '
+                        'granted lockstep steps on %s after %.1f s: start the '
+                        'simulator with lockstep too, or set /lockstep false'
+                        % (self.pub.resolved_name, ', '.join(sorted(
+                            c.endpoint_id for c in self.pub.impl.connections)),
+                           lockstep.GRANT_TOPIC, wait))
+                raise CourseAborted('nothing subscribes to %s after %.1f s: %s'
+                                    % (self.pub.resolved_name, wait,
+                                       listener_hint(topic_graph())))
+            deadline.poll(50)
+
+    def _listening(self):
+        """True once the driver takes cmd_vel; under lockstep, once a
+        simulator that takes part in it does (it counts every command, so
+        none may go out before its connection is up)."""
+        takers = {c.endpoint_id for c in self.pub.impl.connections}
+        if self.member is None:
+            return bool(takers)
+        return bool(takers & self.member.simulators())

@@ -1,0 +1,19 @@
+"""The remap hint a motion node gives when nothing takes its cmd_vel
+(rospy-free: the master's topic graph comes in, the text goes out;
+rbx1_nav.motion.cmd_vel_ros asks the master)."""
+
+
+def listener_hint(graph):
+    """Where the velocity commands could go instead, from the master's
+    ``graph`` (rbx1_nav.common.master_ros.topic_graph(); None when the
+    master is gone)."""
+    if graph is None:  # the master is gone too: nothing to suggest
+        return 'is the robot driver running?'
+    _, subscribers, types = graph
+    topics = sorted(topic for topic in subscribers
+                    if types.get(topic) == 'geometry_msgs/Twist')
+    if not topics:
+        return ('no node takes geometry_msgs/Twist commands: is the robot '
+                'driver running?')
+    return ('these topics take Twist commands: %s. Remap to the driver\'s, '
+            'e.g. cmd_vel:=%s' % (', '.join(topics), topics[0]))

@@ -1,0 +1,56 @@
+"""The summary line a motion node logs after a course (rospy-free).
+
+The runner (rbx1_nav.motion.runner_ros) gathers what it saw: the final
+pose, the control ticks, the stalls its odometry feed showed and the link
+dropouts ridden out; these functions turn that into the text it logs.
+"""
+import math
+
+from rbx1_nav.motion.command import pose_error
+from rbx1_nav.motion.course import control_rates
+from rbx1_nav.transform_utils import normalize_angle
+
+
+def stalls_text(stalls, odom_topic, heard):
+    """How often the robot stood still while commanded to move.
+
+    ``stalls`` is the course's rbx1_nav.motion.course.Stalls; ``heard`` is
+    False when nothing published on ``odom_topic`` (no velocities to judge
+    by).
+    """
+    if not heard:
+        return 'unknown (nothing on %s)' % odom_topic
+    if stalls.count:
+        return ('%d times, %.1f s in all (its watchdog, or commands late)'
+                % (stalls.count, stalls.seconds))
+    return 'never'
+
+
+def summary_line(robot, course, final, odom_frame, tick_times, held, dropouts):
+    """The 'Course complete' line.
+
+    ``robot`` prefixes it (the namespace and ': ' in a fleet, else '');
+    ``course`` is the course driven; ``final`` its final pose (None when
+    blind: no odometry); ``odom_frame`` the frame the poses are in;
+    ``tick_times`` the control ticks (s); ``held`` is :func:`stalls_text`'s
+    and ``dropouts`` rbx1_nav.motion.dropouts.Dropouts.summary()'s text.
+    """
+    if final is None:
+        return ('%sCourse complete in %.1f s (no odometry: final pose '
+                'unknown); stood still while commanded: %s; link '
+                'dropouts ridden out: %s' % (robot, course.elapsed, held,
+                                              dropouts))
+    start = course.start_pose
+    mean, slowest = control_rates(tick_times)
+    error, heading = pose_error(final, course.ideal_end(start))
+    return (
+        '%sCourse complete in %.1f s: final pose relative to start in %s: '
+        'dx %+.1f mm, dy %+.1f mm, dyaw %+.2f deg; error from the ideal '
+        'end pose: position %.1f mm, heading %+.2f deg; control loop '
+        '%.1f Hz mean, %d Hz slowest second; stood still while commanded: '
+        '%s; link dropouts ridden out: %s' % (
+            robot, course.elapsed, odom_frame, 1000.0 * (final.x - start.x),
+            1000.0 * (final.y - start.y),
+            math.degrees(normalize_angle(final.yaw - start.yaw)),
+            1000.0 * error, math.degrees(heading),
+            mean, slowest, held, dropouts))

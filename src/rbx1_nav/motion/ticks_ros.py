@@ -1,0 +1,72 @@
+"""The control loop's ticks: free running at ~rate, or granted by lockstep.
+
+On a real robot (or simulated time without lockstep) a tick comes every
+1/~rate s of ROS time (rospy.Rate). Under lockstep simulated time
+(rbx1_nav.common.lockstep_member_ros) the node is a member while it
+drives: it joins the owner of simulated time, waits for each grant naming
+it (the simulator has published its state at that tick), handles the tick,
+and reports it handled with its next tick 1/~rate s on; time waits for it.
+"""
+import rospy
+
+from rbx1_nav.common import lockstep_member_ros as lockstep
+from rbx1_nav.common.publish_ros import from_ns
+from rbx1_nav.motion.aborted import CourseAborted
+
+
+class Ticks(object):
+    """The ticks at ``rate`` Hz. Under lockstep ``member`` is the node's
+    rbx1_nav.common.lockstep_member_ros.Member (else None); the join waits
+    up to ``join_wait`` wall s, a grant up to max(GRANT_LIMIT,
+    ``grant_wait``) wall s; ``stop()`` stops the robot when the grants
+    stop."""
+
+    def __init__(self, rate, member, join_wait, grant_wait, stop):
+        self.rate = rate
+        self.member = member
+        self.join_wait = join_wait
+        self.grant_wait = grant_wait
+        self.stop = stop
+        self.granted = set()  # the members granted the current tick
+
+    def ticks(self, joined=lambda: None):
+        """The control ticks (ROS times). Under lockstep ``joined()`` runs
+        once this node is a member, before the first grant; the caller
+        ends the membership with :meth:`leave`."""
+        if self.member is None:
+            rate = rospy.Rate(self.rate)
+            while not rospy.is_shutdown():
+                yield rospy.Time.now()
+                rate.sleep()
+            return
+        member = self.member
+        try:
+            member.join(self.join_wait)
+        except lockstep.JoinError as err:
+            raise CourseAborted('/lockstep is set but this node cannot join: %s. '
+                                'Start the simulator with lockstep too, or set '
+                                '/lockstep false' % err)
+        joined()
+        period = int(round(1e9 / self.rate))
+        limit = max(lockstep.GRANT_LIMIT, self.grant_wait)
+        while True:
+            granted = member.wait_grant(limit)
+            if granted is None:
+                if rospy.is_shutdown():
+                    return
+                self.stop()
+                raise CourseAborted(
+                    '/clock has not advanced: no lockstep step granted for %.1f s '
+                    'of wall time (sim_clock gone?); stopped the robot' % limit)
+            action, tick, grant = granted
+            self.granted = set(grant.members)
+            if action == lockstep.BACK:
+                raise rospy.ROSTimeMovedBackwardsException(
+                    (member.follower.handled - tick) * 1e-9)
+            yield from_ns(tick)
+            member.report(tick, tick + period)
+
+    def leave(self):
+        """Leave the lockstep after a course (a no-op off lockstep)."""
+        if self.member is not None:
+            self.member.leave()

@@ -1,0 +1,190 @@
+"""The motion runner's watchdogs: each one thing that can go wrong while
+a course runs, noticed and said (and, where it must, the robot stopped).
+
+* :func:`wait_for_clock` and :class:`ClockWatchdog`: under /use_sim_time,
+  the first /clock, and /clock stopping (without lockstep; under lockstep
+  the grants have a limit of their own, rbx1_nav.motion.ticks_ros);
+* :func:`watch_master`: the ROS master gone, back, or restarted;
+* :class:`StallWarnings`: the robot's odometry velocities, fed to the
+  course's stall count, with a warning for each stall;
+* :class:`TfAgeWarnings`: the transform steered by older than ~max_tf_age;
+* :class:`DropoutHold`: a stale transform ridden out (rbx1_nav.motion.dropouts),
+  robot held, or the course aborted past ~link_grace.
+"""
+import collections
+import threading
+import time
+
+import rospy
+from nav_msgs.msg import Odometry
+
+from rbx1_nav.common.master_ros import MasterWatch, gone_text, restarted_text
+from rbx1_nav.common.node_ros import wait_for_clock as wait_for_first_clock
+from rbx1_nav.common.ros_time import no_clock_text
+from rbx1_nav.motion.aborted import CourseAborted
+from rbx1_nav.motion.dropouts import HOLD, LOST, Dropouts
+
+WARN_PERIOD = 10.0  # s between warnings about an old transform or a stall
+
+
+def wait_for_clock(wait):
+    """Under /use_sim_time, wait up to ``wait`` wall s for the first /clock;
+    CourseAborted when it does not come."""
+    if rospy.Time.now().is_zero():  # only under /use_sim_time
+        rospy.loginfo('/use_sim_time is set: waiting for /clock')
+    if not wait_for_first_clock(wait):
+        if rospy.is_shutdown():
+            raise rospy.ROSInterruptException('shutdown waiting for /clock')
+        raise CourseAborted(no_clock_text(wait))
+
+
+class ClockWatchdog(object):
+    """Under /use_sim_time, shut the node down if /clock stops.
+
+    rospy.Rate.sleep() waits for simulated time, so with a dead clock the
+    control loop, and with it the stale-tf check, would block forever.
+    This thread measures wall time (the one place the node does) and shuts
+    the node down, robot stopped (``stop()``), when ROS time stands still
+    for max(2 s, ``tf_timeout``) of wall time. Under lockstep the node waits
+    for grants instead, with a limit of its own (rbx1_nav.motion.ticks_ros).
+    """
+
+    def __init__(self, name, tf_timeout, stop):
+        self.name = name
+        self.limit = max(2.0, tf_timeout)
+        self.stop = stop
+
+    def start(self, lockstep):
+        """Start the thread, unless off simulated time or under ``lockstep``."""
+        if not rospy.get_param('/use_sim_time', False) or lockstep:
+            return
+        threading.Thread(target=self._watch, name='clock_watchdog',
+                         daemon=True).start()
+
+    def _watch(self):
+        limit = self.limit
+        last, since = rospy.get_rostime(), time.monotonic()
+        while not rospy.is_shutdown():
+            rospy.rostime.wallsleep(0.1)
+            now = rospy.get_rostime()
+            if now != last:
+                last, since = now, time.monotonic()
+            elif time.monotonic() - since > limit:
+                self.stop()
+                rospy.logerr('%s: /clock has not advanced for %.1f s of '
+                             'wall time (simulator or clock node gone?); '
+                             'stopped the robot', self.name, limit)
+                rospy.signal_shutdown('simulated clock stopped')
+                return
+
+
+def watch_master(name):
+    """Say once when the master becomes unreachable, when it is back,
+    and when it restarted (rbx1_nav.common.master_ros: polled from a thread of
+    its own with a timeout, so no master call can block the control
+    loop; gone only after a few failed polls in a row, so a lossy link
+    does not make the warning come and go). ROS 1's topic connections
+    are peer to peer and outlive the master, so the course goes on."""
+    MasterWatch(name, on_gone=lambda uri, problem: rospy.logwarn(
+        gone_text(name, uri, problem)),
+        on_back=lambda uri: rospy.loginfo('%s: the ROS master at %s is '
+                                          'back', name, uri),
+        on_restarted=lambda uri: rospy.logwarn(restarted_text(name, uri))
+    ).start()
+
+
+class StallWarnings(object):
+    """The velocities the robot measured (``odom``), for Course.stalls;
+    ``name`` is the node's, for the warnings."""
+
+    def __init__(self, name):
+        self.name = name
+        # Drained by the control loop, so the course is only touched in
+        # one thread.
+        self.velocities = collections.deque(maxlen=1000)
+        self.sub = rospy.Subscriber('odom', Odometry, self._on_odom,
+                                    queue_size=100, tcp_nodelay=True)
+
+    def _on_odom(self, msg):
+        twist = msg.twist.twist
+        self.velocities.append((msg.header.stamp.to_sec(), twist.linear.x,
+                                twist.angular.z))
+
+    @property
+    def topic(self):
+        return self.sub.resolved_name
+
+    def heard(self):
+        """True when something publishes the odometry velocities."""
+        return self.sub.get_num_connections() != 0
+
+    def check(self, course):
+        """Feed the robot's measured velocities to ``course.stalls``; warn
+        (throttled) of each spell it stood still while commanded to move."""
+        while self.velocities:
+            spell = course.stalls.velocity(*self.velocities.popleft())
+            if spell is not None:
+                rospy.logwarn_throttle(
+                    WARN_PERIOD, '%s: the robot stood still for %.2f s while '
+                    'commanded to move: stopped by its watchdog (commands late '
+                    'or lost on the way to it?) or held (motors off, bumper)'
+                    % (self.name, spell))
+
+
+class TfAgeWarnings(object):
+    """Warn (at most every WARN_PERIOD s) when the transform steered by is
+    older than ``max_age`` s (~max_tf_age): the robot has moved on since."""
+
+    def __init__(self, name, max_age):
+        self.name = name
+        self.max_age = max_age
+
+    def check(self, age, predicts, odom_frame, base_frame):
+        """The transform ``odom_frame -> base_frame`` steered by is ``age`` s
+        old; ``predicts``: the course adds the commands sent since."""
+        limit = self.max_age
+        if age > limit:
+            rospy.logwarn_throttle(
+                WARN_PERIOD, '%s: tf %s -> %s is %.3f s old when used (limit '
+                '~max_tf_age %.3f s): a slow link to the robot or a busy machine; '
+                '%s' % (self.name, odom_frame, base_frame, age, limit,
+                        'precise mode adds the commands sent since' if predicts
+                        else 'the course steers by where the robot was'))
+
+
+class DropoutHold(object):
+    """One course's ride through stale transforms (rbx1_nav.motion.dropouts):
+    ``where`` names the transform, ``stop()`` stops the robot."""
+
+    def __init__(self, name, where, timeout, grace, stop):
+        self.name = name
+        self.where = where
+        self.stop = stop
+        self.dropouts = Dropouts(timeout, grace)
+
+    def held(self, now, fresh_at):
+        """True while the robot is to be held (commanded zero) at ``now``,
+        the transform fresh last at ``fresh_at`` (rospy.Time);
+        CourseAborted past ~link_grace."""
+        tick = self.dropouts.tick(now.to_sec(), fresh_at.to_sec())
+        where = self.where
+        if tick.state == LOST:
+            self.stop()
+            raise CourseAborted(
+                '%s has not been updated for %.2f s (limit ~tf_timeout %.2f s '
+                '+ ~link_grace %.2f s): robot driver or simulator gone, or the '
+                'link to the robot down? Stopped the robot.' % (
+                    where, tick.stale, self.dropouts.timeout, self.dropouts.grace))
+        if tick.began:
+            rospy.logwarn('%s: %s has not been updated for %.2f s (~tf_timeout): '
+                          'a link dropout? Holding the robot (zero velocity) and '
+                          'waiting up to ~link_grace %.1f s for it', self.name,
+                          where, tick.stale, self.dropouts.grace)
+        elif tick.ended is not None:
+            rospy.loginfo('%s: %s is back after %.2f s; carrying on from where '
+                          'it says the robot is', self.name, where, tick.ended)
+        return tick.state == HOLD
+
+    def summary(self):
+        """The dropouts ridden out, for the summary line."""
+        return self.dropouts.summary()
