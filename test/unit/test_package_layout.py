@@ -140,3 +140,36 @@ def test_every_rostest_sits_beside_its_script():
                 assert os.path.isfile(os.path.join(os.path.dirname(test_file), script)), (
                     '%s runs %s, which is not beside it' % (test_file, script))
     assert not glob.glob(os.path.join(ROOT, 'test', '*.test'))
+
+
+def _readme_layout():
+    """The README's Layout section: {path it names: the text of its bullet}."""
+    with open(os.path.join(ROOT, 'README.md')) as f:
+        text = f.read()
+    section = text.split('\n## Layout\n', 1)[1].split('\n## ', 1)[0]
+    bullets = re.findall(r'^- `([^`]+)`:(.*?)(?=^- |\Z)', section, re.M | re.S)
+    return {path: body for path, body in bullets}
+
+
+def test_readme_layout_names_every_module_of_each_subsystem():
+    """Each subsystem's bullet names exactly the modules in its folder."""
+    layout = _readme_layout()
+    for sub in SUBSYSTEMS:
+        key = 'src/rbx1_nav/%s/' % sub
+        assert key in layout, 'README Layout has no bullet for %s' % key
+        named = set(re.findall(r'`([a-z_0-9]+)`', layout[key]))
+        there = {os.path.basename(p)[:-3]
+                 for p in glob.glob(os.path.join(PACKAGE, sub, '*.py'))} - {'__init__'}
+        assert there - named == set(), 'README Layout leaves out %s' % sorted(there - named)
+        assert named - there == set(), 'README Layout names %s, not in %s' % (
+            sorted(named - there), key)
+
+
+def test_readme_layout_names_every_folder_of_test():
+    layout = _readme_layout()
+    folders = {'test/%s/' % d for d in os.listdir(os.path.join(ROOT, 'test'))
+               if os.path.isdir(os.path.join(ROOT, 'test', d)) and d != '__pycache__'}
+    assert folders - set(layout) == set(), 'README Layout leaves out %s' % sorted(
+        folders - set(layout))
+    for path in layout:
+        assert os.path.exists(os.path.join(ROOT, path)), 'README Layout names %s' % path
