@@ -2,7 +2,7 @@
 ends its roslaunch (nodes/end_launch_on_success.py)."""
 import os
 
-from rbx1_nav.common.launch_end import is_roslaunch, node_name, others_running, processes
+from rbx1_nav.common.launch_end import is_roslaunch, node_name, others_running, processes, run
 
 ROSLAUNCH = ['/usr/bin/python3', '/usr/bin/roslaunch', 'rbx1_nav', 'nav_square.launch']
 WRAPPER = ['/usr/bin/python3', '/ws/devel/lib/rbx1_nav/end_launch_on_success.py']
@@ -42,3 +42,11 @@ def test_node_name_as_roslaunch_shows_it():
     assert node_name(args, '/robot2') == 'robot2/odom_out_and_back'
     assert node_name(args) == 'odom_out_and_back'
     assert node_name(['/n/nav_square.py']) == 'nav_square.py'
+
+
+def test_the_wrapper_passes_the_nodes_status_and_leaves_a_non_roslaunch_parent_alone(capsys):
+    """Under pytest (no roslaunch parent) a node's status is the wrapper's."""
+    assert run(['true'], 'doc') == 0
+    assert run(['false'], 'doc') == 1
+    assert run([], 'the doc\n') == 2
+    assert capsys.readouterr().out == 'the doc\n'

@@ -12,8 +12,11 @@ and only once no other wrapped node of the same launch is still running
 (a fleet's courses end the launch when the last one is done).
 """
 import os
+import signal
+import subprocess
+import time
 
-__all__ = ['is_roslaunch', 'others_running', 'processes', 'node_name']
+__all__ = ['is_roslaunch', 'others_running', 'processes', 'node_name', 'run']
 
 SCRIPT = 'end_launch_on_success.py'
 
@@ -66,3 +69,38 @@ def node_name(argv, namespace=''):
         if arg.startswith('__name:='):
             name = arg[len('__name:='):]
     return '/'.join(part for part in (namespace.strip('/'), name) if part)
+
+
+def run(argv, doc):
+    """Run the node ``argv``; once it exits 0, end the roslaunch that
+    started it as Ctrl-C does (see the module docstring). Its exit status."""
+    if not argv or argv[0] in ('-h', '--help'):
+        print(doc.strip())
+        return 0 if argv else 2
+    node = subprocess.Popen(argv)
+    signalled = []
+
+    def forward(signum, frame):
+        signalled.append(signum)
+        node.send_signal(signum)
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, forward)
+    status = node.wait()
+    if status != 0 or signalled:  # failed, or stopped by Ctrl-C / roslaunch
+        return status if status >= 0 else 128 - status
+    parent = os.getppid()
+    procs = processes()
+    if (parent not in procs or not is_roslaunch(procs[parent][1])
+            or others_running(os.getpid(), procs)):
+        return 0
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, lambda signum, frame: os._exit(0))
+    print('[%s] finished cleanly: ending the launch'
+          % node_name(argv, os.environ.get('ROS_NAMESPACE', '')),
+          flush=True)
+    os.kill(parent, signal.SIGINT)
+    # roslaunch stops its nodes, this one among them; should it be gone
+    # without doing so, end anyway.
+    while os.getppid() == parent:
+        time.sleep(0.2)
+    return 0
