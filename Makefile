@@ -67,7 +67,7 @@ lint: build $(VENV)/.$(VERMIN)
 	$(ROS) catkin_lint -W2 --strict $(WS)/src/rbx1_nav
 	$(VENV)/bin/vermin --target=3.8- --violations --no-tips nodes src bench test cfg/*.cfg setup.py
 
-# Unit tests (pytest, no master), every test/*.test through rostest, and the
+# Unit tests (pytest, no master), every test/rostest/*.test through rostest, and the
 # fault suite, in one pytest run of three workers on the two cores: the
 # free-running rostests one after another in one, the two-host fault suite
 # one after another in another (both follow the wall clock: normal

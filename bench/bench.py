@@ -177,6 +177,10 @@ def course(setup='ideal', mode='default', speed='max', lockstep=True, seed=None,
         args['seed'] = seed
     graph = Graph(launch, args)
     try:
+        # roslaunch sets /use_sim_time just after its master is up: a course
+        # started before that runs on the wall clock against the simulator's
+        # stamps and never ends. /clock flowing means the parameter is set.
+        clock(graph)
         params = {'precise': mode == 'precise', 'tf_wait': 30.0}
         if not lockstep:  # a node behind the clock must not abort
             params['tf_timeout'] = 5.0

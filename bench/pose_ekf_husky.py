@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """pose_ekf's GPS modes on robot_pose_ekf's own Husky bag, without ROS
 running: the bag's /encoder, /imu_data and /gps fed to
-rbx1_nav.estimation.GyroOdomFusion as pose_ekf.py feeds them (ROS time is
+rbx1_nav.estimation.fusion.GyroOdomFusion as pose_ekf.py feeds them (ROS time is
 each message's record time; the filter steps ~freq times a second).
 
 Prints each mode's last pose before robot_pose_ekf's test time beside what

@@ -177,7 +177,7 @@ class FakeMaster(object):
 
 
 def test_master_watch_reports_gone_back_and_restarted_and_never_waits_long():
-    from rbx1_nav.common.master_ros import MasterWatch  # rospy, but no master needed
+    from rbx1_nav.common.master_ros import MasterWatch
     old, new = FakeMaster(101, 'run-a'), FakeMaster(202, 'run-b')
     silent = socket.socket()  # takes connections, never answers
     silent.bind(('127.0.0.1', 0))

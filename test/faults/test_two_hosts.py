@@ -255,8 +255,9 @@ def start_fleet(hosts, robots):
     core.wait_for('started core service', 30)
     hosts.run('robot', ['rosrun', 'rbx1_nav', 'fake_fleet.py',
                         '_robots:=[%s]' % ', '.join(robots)], **pipe)
-    truth = Lines(hosts.run('robot', [sys.executable, os.path.join(
-        os.path.dirname(os.path.abspath(__file__)), os.pardir, 'helpers', 'truth_echo.py')] + robots, **pipe))
+    echo = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir,
+                        'helpers', 'truth_echo.py')
+    truth = Lines(hosts.run('robot', [sys.executable, echo] + robots, **pipe))
     deadline = time.monotonic() + 30
     while {line.split()[0] for _, line in list(truth.lines)} != set(robots):
         assert time.monotonic() < deadline, 'no ground truth of every robot:\n' + truth.text()
@@ -286,8 +287,8 @@ def test_twenty_percent_loss_precise_courses_ride_it_out(hosts):
     by nature (measured 10, 9, 9, 8, 8, 6 and 4 of 10; the misses: heading
     errors up to 2.3 deg, and streams that TCP stalled for longer than
     ~link_grace), so that count is printed, not asserted: bench/loss.py
-    runs this case many times and gives its distribution. So is the longest the robot kept moving while its course
-    held it: a command sent before the dropout, which TCP delivers late,
+    runs this case many times and gives its distribution. So is the
+    longest the robot kept moving while its course held it: a command sent before the dropout, which TCP delivers late,
     runs until the robot's watchdog stops it or the next arrives (seen:
     0.8 s, over cmd_timeout when late commands trickle in one by one)."""
     robots = ['robot%d' % (k + 1) for k in range(COURSES_AT_LOSS)]

@@ -9,7 +9,7 @@ import tempfile
 from hypothesis import configuration, settings
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', '..', 'src'))
-# Test plumbing shared with the rostests (ideal_robot.py).
+# Test plumbing of test/helpers/ (ideal_robot.py).
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 
 # The same examples on every run (derandomize), and no per-example time

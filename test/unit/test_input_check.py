@@ -3,7 +3,9 @@ pose_ekf and odom_ekf (no ROS master needed)."""
 import numpy as np
 import pytest
 
-from rbx1_nav.estimation.input_check import ABSURD, DUPLICATE, MAX_POSITION, MAX_VARIANCE, NEGATIVE_VARIANCE, NOT_FINITE, OUT_OF_ORDER, ZERO_STAMP, InputCheck, RejectedInput
+from rbx1_nav.estimation.input_check import (ABSURD, DUPLICATE, MAX_POSITION, MAX_VARIANCE,
+                                             NEGATIVE_VARIANCE, NOT_FINITE, OUT_OF_ORDER,
+                                             ZERO_STAMP, InputCheck, RejectedInput)
 from rbx1_nav.common.ros_time import ClockWatch, time_moved_back_text
 
 NAN, INF = float('nan'), float('inf')

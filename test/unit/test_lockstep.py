@@ -14,7 +14,8 @@ import random
 import pytest
 
 from rbx1_nav.sim_time.lockstep import Owner
-from rbx1_nav.common.lockstep_member import BACK, HANDLE, REPEAT, STALE, CommandLedger, Follower, Report
+from rbx1_nav.common.lockstep_member import (BACK, HANDLE, REPEAT, STALE, CommandLedger, Follower,
+                                             Report)
 
 MS = 1000000  # ns
 

@@ -4,8 +4,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from rbx1_nav.common.master_watch import (BACK, GONE, GONE_AFTER, RESTARTED,
-                                   MasterStates, gone_text, restarted_text,
-                                   reregistering_text, same_master)
+                                          MasterStates, gone_text, restarted_text,
+                                          reregistering_text, same_master)
 
 OLD, NEW = (101, 'run-a'), (202, 'run-b')  # (pid, run_id) of two masters
 

@@ -13,7 +13,8 @@ from hypothesis import given, settings, strategies as st
 from ideal_robot import DT, IdealRobot, run
 from rbx1_nav.common import params
 from rbx1_nav.motion.command import STOP, Command, pose_error
-from rbx1_nav.motion.course import Course, control_rates, legs_course, legs_params
+from rbx1_nav.motion.course import Course, legs_course, legs_params
+from rbx1_nav.motion.summary import control_rates
 from rbx1_nav.motion.in_flight import InFlight
 from rbx1_nav.motion.precise import PRECISE_PARAMS, Approach, approach
 from rbx1_nav.motion.stalls import Stalls

@@ -3,7 +3,7 @@ import math
 from types import SimpleNamespace
 
 from rbx1_nav.motion.stalls import Stalls
-from rbx1_nav.motion.remap_hint import listener_hint
+from rbx1_nav.motion.cmd_vel import listener_hint
 from rbx1_nav.motion.summary import stalls_text, summary_line
 from rbx1_nav.transform_utils import Pose2D
 

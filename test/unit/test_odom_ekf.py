@@ -7,11 +7,12 @@ import pytest
 geometry_msgs = pytest.importorskip('geometry_msgs.msg')
 rospy_time = pytest.importorskip('genpy')
 
-from rbx1_nav.estimation.input_check import ABSURD, DUPLICATE, MAX_POSITION, NEGATIVE_VARIANCE, NOT_FINITE, OUT_OF_ORDER, ZERO_STAMP, RejectedInput  # noqa: E402
+from rbx1_nav.estimation.input_check import (ABSURD, DUPLICATE, MAX_POSITION, NEGATIVE_VARIANCE,  # noqa: E402
+                                             NOT_FINITE, OUT_OF_ORDER, ZERO_STAMP, RejectedInput)
 from rbx1_nav.estimation.odom_ekf import (MAX_TWIST, MIN_TWIST_DT,  # noqa: E402
-                               UNKNOWN_TWIST_COVARIANCE,
-                               UNKNOWN_VARIANCE, POSE_TYPE, PoseToOdometry,
-                               input_publishers, silent_input_text)
+                                          UNKNOWN_TWIST_COVARIANCE,
+                                          UNKNOWN_VARIANCE, POSE_TYPE, PoseToOdometry,
+                                          input_publishers, silent_input_text)
 from rbx1_nav.transform_utils import strip_leading_slash  # noqa: E402
 
 

@@ -4,7 +4,7 @@ import math
 import pytest
 
 from rbx1_nav.motion.course_plot import (Track, describe_error, describe_final_offset,
-                                  end_error, final_offset, plot_course)
+                                         end_error, final_offset, plot_course)
 
 
 def square_track(name, end_offset=(0.0, 0.0, 0.0)):

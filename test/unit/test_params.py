@@ -5,8 +5,8 @@ import pytest
 from hypothesis import given, strategies as st
 
 from rbx1_nav.common.params import (POSITIVE, bounds, check_all, command_line, flag, frame,
-                             integer, leftovers, names, number, number_list, param,
-                             text, usage)
+                                    integer, leftovers, names, number, number_list, param,
+                                    text, usage)
 
 finite = st.floats(allow_nan=False, allow_infinity=False)
 

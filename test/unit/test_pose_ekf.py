@@ -5,8 +5,10 @@ import numpy as np
 import pytest
 from hypothesis import given, strategies as st
 
-from rbx1_nav.estimation.input_check import ABSURD, DUPLICATE, NEGATIVE_VARIANCE, NOT_FINITE, OUT_OF_ORDER, ZERO_STAMP, RejectedInput
-from rbx1_nav.estimation.ekf import PlanarEkf, covariance_6x6, floored, is_finite_estimate, odom_increment, pose_covariance_3x3
+from rbx1_nav.estimation.input_check import (ABSURD, DUPLICATE, NEGATIVE_VARIANCE, NOT_FINITE,
+                                             OUT_OF_ORDER, ZERO_STAMP, RejectedInput)
+from rbx1_nav.estimation.ekf import (PlanarEkf, covariance_6x6, floored, is_finite_estimate,
+                                     odom_increment, pose_covariance_3x3)
 from rbx1_nav.estimation.fusion import GyroOdomFusion
 from rbx1_nav.estimation.input_check import MAX_POSITION, MAX_VARIANCE
 from rbx1_nav.estimation.sensors import SensorWatch

@@ -8,7 +8,8 @@ import pytest
 
 from rbx1_nav.estimation.ekf import PlanarEkf, odom_increment, position_covariance_2x2
 from rbx1_nav.estimation.fusion import GyroOdomFusion
-from rbx1_nav.estimation.status import OtherPublisherWatch, other_publisher_text, silent_sensor_text
+from rbx1_nav.estimation.status import (OtherPublisherWatch, other_publisher_text,
+                                        silent_sensor_text)
 from rbx1_nav.transform_utils import normalize_angle
 
 # Per 30 Hz step. x, y: a random walk of 0.055 m/sqrt(s), about what it

@@ -4,9 +4,10 @@ import math
 import pytest
 
 from rbx1_nav.motion.command import MAX_ANGULAR_SPEED
-from rbx1_nav.motion.teleop import (MOTION_KEYS, NOT_A_TERMINAL, PARAMS, POLL,
-                                    QUIT_KEYS, SPEED_KEYS, STOP, STOP_KEYS,
-                                    KeyboardTeleop, Speeds, check_settings, help_text)
+from rbx1_nav.motion.teleop import (MOTION_KEYS, NOT_A_TERMINAL, PARAMS, POLL, QUIT_KEYS,
+                                    SPEED_KEYS, STOP_KEYS, KeyboardTeleop, Speeds, check_settings,
+                                    help_text)
+from rbx1_nav.motion.command import STOP
 
 DEFAULTS = dict((spec.name, spec.default) for spec in PARAMS)
 

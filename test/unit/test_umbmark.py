@@ -8,10 +8,10 @@ import pytest
 from ideal_robot import run
 from rbx1_nav.motion.precise import Approach
 from rbx1_nav.calibration.umbmark import (FALSE_ALARM, analyse, check_errors, corrections,
-                              compare_text, critical, evaluate, load,
-                              parse_position, plot, relative, report,
-                              rerun_text, results_record, run_label,
-                              runs_needed, save, square_course)
+                                          compare_text, critical, evaluate, load,
+                                          parse_position, plot, relative, report,
+                                          rerun_text, results_record, run_label,
+                                          runs_needed, save, square_course)
 from rbx1_nav.transform_utils import Pose2D, normalize_angle
 
 PRECISE = Approach(1.0, 4.0, 0.005, 0.01)

@@ -17,7 +17,8 @@ from rbx1_nav.calibration import umbmark
 from rbx1_nav.calibration.truth_ros import GroundTruth
 from rbx1_nav.common.node_ros import exit_node, start_node
 from rbx1_nav.motion.precise import approach
-from rbx1_nav.motion.runner_ros import CourseAborted, MotionRunner, guarded
+from rbx1_nav.motion.runner_ros import MotionRunner, guarded
+from rbx1_nav.motion.aborted import CourseAborted
 
 NAME = 'umbmark'
 
@@ -92,7 +93,7 @@ class Benchmark(object):
                 self.measured.append(ask_position(label, v['side']))
 
 
-def analyse(values, odometry, measured):
+def report_results(values, odometry, measured):
     """Check the positions, compute, log, write and plot; return the Result."""
     runs = values['runs']
     odometry, measured, result = umbmark.evaluate(
@@ -127,7 +128,7 @@ def main(specs, doc):
             rospy.logwarn('%s: no ~odometry given: taking odometry\'s return '
                           'positions as the starts', NAME)
         try:
-            analyse(values, odometry, values['measurements'])
+            report_results(values, odometry, values['measurements'])
             return 0
         except (ValueError, OSError, KeyError) as err:
             rospy.logerr('%s: %s; no correction computed', NAME, err)
@@ -141,7 +142,7 @@ def main(specs, doc):
             values['runs'], values['side'], bench.odometry))
         return 0
     try:
-        analyse(values, bench.odometry, bench.measured)
+        report_results(values, bench.odometry, bench.measured)
     except (ValueError, OSError, KeyError) as err:
         rospy.logerr('%s: %s; no correction computed', NAME, err)
         return 1

@@ -11,15 +11,13 @@ import time
 
 import rospy
 
-from rbx1_nav.common.lockstep_member import (BACK, HANDLE, LOST_COMMANDS, REPEAT,
-                                             RESEND, SILENT, STALE, CommandLedger,
-                                             Follower)
+from rbx1_nav.common.lockstep_member import (LOST_COMMANDS, REPEAT, RESEND, SILENT,
+                                             STALE, CommandLedger, Follower)
 from rbx1_nav.common.publish_ros import (from_ns, keep_own_time, publish, sender,
                                          synchronous_publisher, to_ns)
 from rbx1_nav.msg import LockstepGrant, LockstepReport
 
-# BACK and HANDLE: what Member.wait_grant returns, for its callers.
-__all__ = ['BACK', 'HANDLE', 'GRANT_TOPIC', 'REPORT_TOPIC', 'GRANT_LIMIT',
+__all__ = ['GRANT_TOPIC', 'REPORT_TOPIC', 'GRANT_LIMIT',
            'STATE_LIMIT', 'JoinError', 'Member', 'enabled']
 
 #: Global topics, like /clock: one owner of simulated time per master.
@@ -176,7 +174,7 @@ class Member(object):
 
     def wait_grant(self, limit=None):
         """Wait for the next step granted to this node; return (action,
-        time ns, grant): action HANDLE or BACK (rbx1_nav.sim_time.lockstep.Follower).
+        time ns, grant): action HANDLE or BACK (rbx1_nav.common.lockstep_member.Follower).
         Sends the last report again every RESEND wall seconds without a
         grant. None after ``limit`` wall seconds without one, or at shutdown.
         """

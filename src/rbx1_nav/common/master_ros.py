@@ -23,11 +23,10 @@ import rospy
 from rospy.impl.registration import get_service_manager, get_topic_manager
 
 from rbx1_nav.common.master_watch import (BACK, GONE, RESTARTED, MasterStates,
-                                   gone_text, reregistering_text,
-                                   restarted_text)
+                                          reregistering_text)
 
 __all__ = ['MasterWatch', 'proxy', 'topic_graph', 'reregister',
-           'reregister_node', 'gone_text', 'restarted_text']
+           'reregister_node']
 
 PERIOD = 1.0  # s between polls
 TIMEOUT = 2.0  # s, socket timeout of each call to the master

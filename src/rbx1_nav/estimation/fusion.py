@@ -22,8 +22,8 @@ import numpy as np
 from rbx1_nav.estimation.input_check import GPS_JUMP
 from rbx1_nav.common.ros_time import ClockWatch
 from rbx1_nav.estimation.ekf import (NO_ODOM_VARIANCE_RATE, PlanarEkf,
-                                   increment_cov, no_motion_cov,
-                                   odom_increment)
+                                     increment_cov, no_motion_cov,
+                                     odom_increment)
 from rbx1_nav.estimation.sensors import MOTION_SOURCES, SENSORS, SensorInputs
 from rbx1_nav.estimation.status import state_text, status_text
 from rbx1_nav.transform_utils import normalize_angle

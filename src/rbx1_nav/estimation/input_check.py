@@ -1,7 +1,7 @@
 """Screening of sensor readings before a filter uses them.
 
 One check for ``pose_ekf.py`` (its odom, imu_data, vo and gps inputs, in
-:class:`rbx1_nav.estimation.GyroOdomFusion`) and ``odom_ekf.py`` (its input
+:class:`rbx1_nav.estimation.fusion.GyroOdomFusion`) and ``odom_ekf.py`` (its input
 pose, in :class:`rbx1_nav.estimation.odom_ekf.PoseToOdometry`). :class:`InputCheck`
 sorts out, per sensor, a reading that is
 
@@ -34,7 +34,7 @@ __all__ = ['InputCheck', 'RejectedInput',
            'MAX_POSITION', 'MAX_VARIANCE', 'WARN_PERIOD', 'ZERO_STAMP',
            'OUT_OF_ORDER', 'DUPLICATE', 'NOT_FINITE', 'ABSURD',
            'NEGATIVE_VARIANCE', 'BAD_ORIENTATION', 'MALFORMED',
-           'ZERO_VARIANCE', 'OTHER_CLOCK', 'GPS_JUMP', 'KINDS']
+           'ZERO_VARIANCE', 'OTHER_CLOCK', 'GPS_JUMP']
 
 #: Positions farther than this from the origin (m) on either axis are
 #: absurd. Ten times the largest coordinate a frame on Earth uses (UTM
@@ -62,9 +62,6 @@ ZERO_VARIANCE = 'zero variance'
 OTHER_CLOCK = 'stamp from another clock'
 GPS_JUMP = 'jump'
 #: Every kind of rejected reading.
-KINDS = (ZERO_STAMP, OUT_OF_ORDER, DUPLICATE, NOT_FINITE, ABSURD,
-         NEGATIVE_VARIANCE, BAD_ORIENTATION, MALFORMED, ZERO_VARIANCE,
-         OTHER_CLOCK, GPS_JUMP)
 
 
 class RejectedInput(ValueError):

@@ -16,7 +16,7 @@ from rbx1_nav.common.master_ros import topic_graph
 from rbx1_nav.common.publish_ros import synchronous_publisher
 from rbx1_nav.motion.aborted import CourseAborted
 from rbx1_nav.motion.deadline_ros import Deadline
-from rbx1_nav.motion.remap_hint import listener_hint
+from rbx1_nav.motion.cmd_vel import listener_hint
 
 
 class CmdVel(object):

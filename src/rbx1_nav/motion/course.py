@@ -33,7 +33,7 @@ from rbx1_nav.motion.stalls import Stalls
 from rbx1_nav.motion.steps import Drive, Pause, TimedDrive, TimedTurn, Turn
 from rbx1_nav.transform_utils import Pose2D, normalize_angle
 
-__all__ = ['Course', 'Reading', 'legs_course', 'legs_params', 'control_rates']
+__all__ = ['Course', 'Reading', 'legs_course', 'legs_params']
 
 Reading = namedtuple('Reading', 'stamp pose delay held')
 Reading.__doc__ = """What odometry said last, as a precise step's stall watch reads it.
@@ -265,25 +265,3 @@ def legs_course(distance, angle, legs, linear_speed, angular_speed,
             turn = TimedTurn(angle, angular_speed, period, label=label)
         steps += [drive, Pause(pause), turn, Pause(pause)]
     return steps
-
-
-def control_rates(times):
-    """(mean Hz, ticks in the slowest whole second) of control ticks at
-    ``times`` (seconds, ascending); (0.0, 0) for fewer than two ticks.
-
-    A node that falls behind its clock misses ticks: the slowest second
-    shows it even when the mean looks fine.
-    """
-    if len(times) < 2:
-        return 0.0, 0
-    span = times[-1] - times[0]
-    mean = (len(times) - 1) / span if span > 0 else 0.0
-    whole = int(span)
-    if whole < 1:
-        return mean, len(times)
-    counts = [0] * whole
-    for t in times:
-        second = int(t - times[0] + 1e-6)  # a tick on a whole second is in it
-        if second < whole:
-            counts[second] += 1
-    return mean, min(counts)

@@ -46,10 +46,10 @@ from rbx1_nav.motion.tf_follow_ros import TfFollower
 from rbx1_nav.motion.ticks_ros import Ticks
 from rbx1_nav.motion.watchdogs_ros import (ClockWatchdog, DropoutHold,
                                            StallWarnings, TfAgeWarnings,
-                                           wait_for_clock, watch_master)
+                                           require_clock, watch_master)
 from rbx1_nav.transform_utils import Pose2D
 
-__all__ = ['CourseAborted', 'MotionRunner', 'common_params', 'guarded',
+__all__ = ['MotionRunner', 'common_params', 'guarded',
            'run_course_node']
 
 
@@ -160,7 +160,7 @@ class MotionRunner(object):
     def start(self):
         """Wait for the clock and start the watchdogs (once per node)."""
         if not self._started:
-            wait_for_clock(self.settings['tf_wait'])
+            require_clock(self.settings['tf_wait'])
             self.clock_watchdog.start(lockstep=self.ticks.member is not None)
             watch_master(self.name)
             self.cmd_vel.watch_publishers(self.name)

@@ -24,8 +24,8 @@ Rules shared by every course, as in the book:
   near its goal, ignores the tolerance and checks the goal on a still
   robot; a drive also holds its starting heading.
 
-A drive or turn is a :class:`_Move` along an axis (:data:`LINEAR` or
-:data:`ANGULAR`: what is measured, how it is commanded and written);
+A drive or turn is a :class:`_Move` along an axis (:data:`DRIVE_AXIS` or
+:data:`TURN_AXIS`: what is measured, how it is commanded and written);
 closed loop or open loop is the subclass.
 """
 import math
@@ -36,7 +36,7 @@ from rbx1_nav.motion.precise import PreciseMode
 from rbx1_nav.transform_utils import Pose2D, normalize_angle
 
 __all__ = ['Step', 'Pause', 'Drive', 'Turn', 'TimedDrive', 'TimedTurn',
-           'LINEAR', 'ANGULAR']
+           'DRIVE_AXIS', 'TURN_AXIS']
 
 
 class Step(object):
@@ -94,7 +94,7 @@ class _Axis(object):
         self.command, self.size, self.ideal_end = command, size, ideal_end
 
 
-LINEAR = _Axis(
+DRIVE_AXIS = _Axis(
     DRIVE, 'drove',
     command=lambda speed: Command(speed, 0.0),
     size=lambda metres: '%.3f m' % metres,
@@ -102,7 +102,7 @@ LINEAR = _Axis(
                                         pose.y + goal * math.sin(pose.yaw),
                                         pose.yaw))
 
-ANGULAR = _Axis(
+TURN_AXIS = _Axis(
     TURN, 'turned',
     command=lambda speed: Command(0.0, speed),
     size=lambda radians: '%.1f deg' % math.degrees(radians),
@@ -182,7 +182,7 @@ class _OnOdometry(_Move):
 class Drive(_OnOdometry):
     """Drive ``distance`` metres (negative: backwards) on odometry."""
 
-    axis = LINEAR
+    axis = DRIVE_AXIS
 
     def __init__(self, distance, speed, tolerance=0.0, approach=None,
                  heading_rate=MAX_ANGULAR_SPEED, label=''):
@@ -218,7 +218,7 @@ class Drive(_OnOdometry):
 class Turn(_OnOdometry):
     """Turn ``angle`` radians (negative: clockwise) on odometry."""
 
-    axis = ANGULAR
+    axis = TURN_AXIS
 
     def __init__(self, angle, speed, tolerance=0.0, approach=None, label=''):
         _OnOdometry.__init__(self, angle, speed, tolerance, approach, label)
@@ -273,7 +273,7 @@ class _Timed(_Move):
 class TimedDrive(_Timed):
     """Drive ``distance`` at ``speed`` for distance / speed seconds."""
 
-    axis = LINEAR
+    axis = DRIVE_AXIS
 
     def __init__(self, distance, speed, period, label=''):
         _Timed.__init__(self, distance, speed, period, label)
@@ -282,7 +282,7 @@ class TimedDrive(_Timed):
 class TimedTurn(_Timed):
     """Turn ``angle`` at ``speed`` for angle / speed seconds."""
 
-    axis = ANGULAR
+    axis = TURN_AXIS
 
     def __init__(self, angle, speed, period, label=''):
         _Timed.__init__(self, angle, speed, period, label)

@@ -7,14 +7,13 @@ dropouts ridden out; these functions turn that into the text it logs.
 import math
 
 from rbx1_nav.motion.command import pose_error
-from rbx1_nav.motion.course import control_rates
 from rbx1_nav.transform_utils import normalize_angle
 
 
 def stalls_text(stalls, odom_topic, heard):
     """How often the robot stood still while commanded to move.
 
-    ``stalls`` is the course's rbx1_nav.motion.course.Stalls; ``heard`` is
+    ``stalls`` is the course's rbx1_nav.motion.stalls.Stalls; ``heard`` is
     False when nothing published on ``odom_topic`` (no velocities to judge
     by).
     """
@@ -54,3 +53,25 @@ def summary_line(robot, course, final, odom_frame, tick_times, held, dropouts):
             math.degrees(normalize_angle(final.yaw - start.yaw)),
             1000.0 * error, math.degrees(heading),
             mean, slowest, held, dropouts))
+
+
+def control_rates(times):
+    """(mean Hz, ticks in the slowest whole second) of control ticks at
+    ``times`` (seconds, ascending); (0.0, 0) for fewer than two ticks.
+
+    A node that falls behind its clock misses ticks: the slowest second
+    shows it even when the mean looks fine.
+    """
+    if len(times) < 2:
+        return 0.0, 0
+    span = times[-1] - times[0]
+    mean = (len(times) - 1) / span if span > 0 else 0.0
+    whole = int(span)
+    if whole < 1:
+        return mean, len(times)
+    counts = [0] * whole
+    for t in times:
+        second = int(t - times[0] + 1e-6)  # a tick on a whole second is in it
+        if second < whole:
+            counts[second] += 1
+    return mean, min(counts)

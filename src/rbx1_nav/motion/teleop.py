@@ -27,7 +27,7 @@ from rbx1_nav.common import params
 from rbx1_nav.motion.command import MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED, STOP, Command
 from rbx1_nav.common.params import param
 
-__all__ = ['Command', 'STOP', 'MOTION_KEYS', 'STOP_KEYS', 'SPEED_KEYS',
+__all__ = ['MOTION_KEYS', 'STOP_KEYS', 'SPEED_KEYS',
            'QUIT_KEYS', 'PARAMS', 'check_settings', 'Speeds',
            'KeyboardTeleop', 'help_text', 'POLL', 'NOT_A_TERMINAL']
 

@@ -22,8 +22,8 @@ from geometry_msgs.msg import Twist
 from rbx1_nav.common import params
 from rbx1_nav.common.cmd_vel_watch_ros import watch_publishers
 from rbx1_nav.common.node_ros import exit_if_help
-from rbx1_nav.motion.teleop import (NOT_A_TERMINAL, STOP, KeyboardTeleop,
-                                    check_settings, help_text)
+from rbx1_nav.motion.teleop import NOT_A_TERMINAL, KeyboardTeleop, check_settings, help_text
+from rbx1_nav.motion.command import STOP
 
 
 class Keyboard(object):

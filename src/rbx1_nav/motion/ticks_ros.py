@@ -10,6 +10,7 @@ and reports it handled with its next tick 1/~rate s on; time waits for it.
 import rospy
 
 from rbx1_nav.common import lockstep_member_ros as lockstep
+from rbx1_nav.common.lockstep_member import BACK
 from rbx1_nav.common.publish_ros import from_ns
 from rbx1_nav.motion.aborted import CourseAborted
 
@@ -60,7 +61,7 @@ class Ticks(object):
                     'of wall time (sim_clock gone?); stopped the robot' % limit)
             action, tick, grant = granted
             self.granted = set(grant.members)
-            if action == lockstep.BACK:
+            if action == BACK:
                 raise rospy.ROSTimeMovedBackwardsException(
                     (member.follower.handled - tick) * 1e-9)
             yield from_ns(tick)

@@ -1,7 +1,7 @@
 """The motion runner's watchdogs: each one thing that can go wrong while
 a course runs, noticed and said (and, where it must, the robot stopped).
 
-* :func:`wait_for_clock` and :class:`ClockWatchdog`: under /use_sim_time,
+* :func:`require_clock` and :class:`ClockWatchdog`: under /use_sim_time,
   the first /clock, and /clock stopping (without lockstep; under lockstep
   the grants have a limit of their own, rbx1_nav.motion.ticks_ros);
 * :func:`watch_master`: the ROS master gone, back, or restarted;
@@ -18,8 +18,9 @@ import time
 import rospy
 from nav_msgs.msg import Odometry
 
-from rbx1_nav.common.master_ros import MasterWatch, gone_text, restarted_text
-from rbx1_nav.common.node_ros import wait_for_clock as wait_for_first_clock
+from rbx1_nav.common.master_ros import MasterWatch
+from rbx1_nav.common.master_watch import gone_text, restarted_text
+from rbx1_nav.common.node_ros import wait_for_clock
 from rbx1_nav.common.ros_time import no_clock_text
 from rbx1_nav.motion.aborted import CourseAborted
 from rbx1_nav.motion.dropouts import HOLD, LOST, Dropouts
@@ -27,12 +28,12 @@ from rbx1_nav.motion.dropouts import HOLD, LOST, Dropouts
 WARN_PERIOD = 10.0  # s between warnings about an old transform or a stall
 
 
-def wait_for_clock(wait):
+def require_clock(wait):
     """Under /use_sim_time, wait up to ``wait`` wall s for the first /clock;
     CourseAborted when it does not come."""
     if rospy.Time.now().is_zero():  # only under /use_sim_time
         rospy.loginfo('/use_sim_time is set: waiting for /clock')
-    if not wait_for_first_clock(wait):
+    if not wait_for_clock(wait):
         if rospy.is_shutdown():
             raise rospy.ROSInterruptException('shutdown waiting for /clock')
         raise CourseAborted(no_clock_text(wait))

@@ -10,6 +10,7 @@ import rospy
 from rbx1_nav.sim.params import MAX_CATCH_UP, WARN_PERIOD
 from rbx1_nav.common.ros_time import time_moved_back_text
 from rbx1_nav.common import lockstep_member_ros as lockstep
+from rbx1_nav.common.lockstep_member import BACK
 from rbx1_nav.common.publish_ros import from_ns
 from rbx1_nav.common.cmd_vel_watch_ros import watch_publishers
 
@@ -115,7 +116,7 @@ class _Grid(object):
     def step_to(self, action, now):
         """Step through the grid up to the granted ``now`` (ns) and to
         ``now`` itself; return the next step wanted."""
-        if action == lockstep.BACK:
+        if action == BACK:
             _time_moved_back(self.log_name, rospy.ROSTimeMovedBackwardsException(
                 (self.last - now) * 1e-9))
             self.next = None

@@ -1,4 +1,5 @@
-"""Pacing of a simulation clock against the wall clock (used by nodes/sim_clock.py).
+"""Pacing of a simulation clock against the wall clock (for
+rbx1_nav.sim_time.clock_ros, sim_clock.py's ROS side).
 
 The clock advances simulated time in fixed steps of whole nanoseconds, so
 stamps are exact multiples of the step, or straight to a time the lockstep

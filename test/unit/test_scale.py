@@ -7,8 +7,8 @@ import pytest
 
 from ideal_robot import IdealRobot, run
 from rbx1_nav.calibration.scale import (ANGULAR, LINEAR, USUAL, PoseTrack,
-                                  correction, course, far_from_one, measure,
-                                  report)
+                                        correction, course, far_from_one, measure,
+                                        report)
 from rbx1_nav.sim.diff_drive import DiffDriveConfig
 from rbx1_nav.transform_utils import Pose2D, normalize_angle
 

@@ -9,7 +9,7 @@ import pytest
 
 from rbx1_nav.sim.diff_drive import DiffDriveConfig, DiffDriveFleet
 from rbx1_nav.sim.physics import (INSTALL_HINT, URDF, Body, PhysicsConfig,
-                                    PhysicsFleet)
+                                  PhysicsFleet)
 
 def mujoco_or_skip():
     pytest.importorskip('mujoco', reason=INSTALL_HINT)

@@ -1,6 +1,7 @@
-"""The remap hint a motion node gives when nothing takes its cmd_vel
-(rospy-free: the master's topic graph comes in, the text goes out;
-rbx1_nav.motion.cmd_vel_ros asks the master)."""
+"""The rospy-free half of the runner's cmd_vel side
+(rbx1_nav.motion.cmd_vel_ros): the remap hint a motion node gives when
+nothing takes its cmd_vel (the master's topic graph comes in, the text
+goes out; cmd_vel_ros asks the master)."""
 
 
 def listener_hint(graph):
