@@ -16,9 +16,10 @@ runs; the rest are read at start-up.
 """
 from rbx1_nav.calibration.scale import ANGULAR
 from rbx1_nav.cfg import CalibrateAngularConfig
-from rbx1_nav.calibration.scale_ros import node_params, run
+from rbx1_nav.calibration.scale_ros import main
+from rbx1_nav.common.node_ros import exit_node
 
-PARAMS = node_params(CalibrateAngularConfig)  # for the README check; run() reads them
+NAME = 'calibrate_angular'
 
 if __name__ == '__main__':
-    run(ANGULAR, CalibrateAngularConfig, __doc__)
+    exit_node(NAME, main(ANGULAR, CalibrateAngularConfig, __doc__))

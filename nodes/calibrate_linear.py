@@ -15,9 +15,10 @@ runs; the rest are read at start-up.
 """
 from rbx1_nav.calibration.scale import LINEAR
 from rbx1_nav.cfg import CalibrateLinearConfig
-from rbx1_nav.calibration.scale_ros import node_params, run
+from rbx1_nav.calibration.scale_ros import main
+from rbx1_nav.common.node_ros import exit_node
 
-PARAMS = node_params(CalibrateLinearConfig)  # for the README check; run() reads them
+NAME = 'calibrate_linear'
 
 if __name__ == '__main__':
-    run(LINEAR, CalibrateLinearConfig, __doc__)
+    exit_node(NAME, main(LINEAR, CalibrateLinearConfig, __doc__))

@@ -24,10 +24,13 @@ Parameters:  ~robots and every parameter of fake_turtlebot.py
              generator for the fleet (seeded by ~seed), each robot's GPS
              from its own.
 """
+from rbx1_nav.common.node_ros import exit_node
 from rbx1_nav.sim.node_ros import fake_fleet
 from rbx1_nav.sim.params import PARAMS as ROBOT_PARAMS, ROBOTS
 
 PARAMS = (ROBOTS,) + ROBOT_PARAMS
 
+NAME = 'fake_fleet'
+
 if __name__ == '__main__':
-    fake_fleet(PARAMS, __doc__)
+    exit_node(NAME, fake_fleet(PARAMS, __doc__))

@@ -25,8 +25,11 @@ Parameters:  rbx1_nav.sim.params.PARAMS (--help lists them), every field
 The topics are rbx1_nav.sim.topics_ros.RobotTopics, shared with
 fake_fleet.py (N robots in one process).
 """
+from rbx1_nav.common.node_ros import exit_node
 from rbx1_nav.sim.node_ros import fake_turtlebot
 from rbx1_nav.sim.params import PARAMS
 
+NAME = 'fake_turtlebot'
+
 if __name__ == '__main__':
-    fake_turtlebot(PARAMS, __doc__)
+    exit_node(NAME, fake_turtlebot(PARAMS, __doc__))

@@ -16,6 +16,7 @@ with only simulators taking part (a course not started yet, or over) it
 runs at ~idle_speed, so a waiting simulator does not spin a core for
 nothing; with nobody taking part, at real time.
 """
+from rbx1_nav.common.node_ros import exit_node
 from rbx1_nav.common.params import number, param
 from rbx1_nav.sim_time.clock_ros import sim_clock
 from rbx1_nav.sim_time.pacer import MAX_SPEED, MAX_START, MAX_STEP, MIN_SPEED, MIN_STEP, speed
@@ -34,5 +35,7 @@ PARAMS = (
           minimum=0.0, maximum=MAX_START),
 )
 
+NAME = 'sim_clock'
+
 if __name__ == '__main__':
-    sim_clock(PARAMS, __doc__)
+    exit_node(NAME, sim_clock(PARAMS, __doc__))

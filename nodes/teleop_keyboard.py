@@ -15,8 +15,11 @@ launch-prefix="xterm -e". Exit status: 0 after a quit (key, Ctrl-C, SIGINT,
 SIGTERM, rosnode kill, terminal closed), 1 on bad parameters, no terminal or
 an error. The robot is always sent a stop and the terminal is restored.
 """
+from rbx1_nav.common.node_ros import exit_node
 from rbx1_nav.motion.teleop import PARAMS
-from rbx1_nav.motion.teleop_ros import run
+from rbx1_nav.motion.teleop_ros import main
+
+NAME = 'teleop_keyboard'
 
 if __name__ == '__main__':
-    run(PARAMS, __doc__)
+    exit_node(NAME, main(PARAMS, __doc__))

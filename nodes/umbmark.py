@@ -30,8 +30,9 @@ The paper's squares have 4 m sides; ~side defaults to 1 m. Exit status 0
 with a result, 1 otherwise.
 """
 from rbx1_nav.calibration.truth_ros import TRUTH_PARAM
-from rbx1_nav.calibration.umbmark_ros import run
+from rbx1_nav.calibration.umbmark_ros import NAME, main
 from rbx1_nav.common import params
+from rbx1_nav.common.node_ros import exit_node
 from rbx1_nav.common.params import param
 from rbx1_nav.motion.command import MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED
 from rbx1_nav.motion.precise import PRECISE_PARAMS
@@ -66,4 +67,4 @@ PARAMS = (
 
 
 if __name__ == '__main__':
-    run(PARAMS, __doc__)
+    exit_node(NAME, main(PARAMS, __doc__))

@@ -22,7 +22,7 @@ from dynamic_reconfigure.server import Server
 from rbx1_nav.calibration import scale
 from rbx1_nav.common import params
 from rbx1_nav.common.params import param
-from rbx1_nav.common.node_ros import exit_node, start_node
+from rbx1_nav.common.node_ros import start_node
 from rbx1_nav.motion.runner_ros import MotionRunner, common_params, guarded
 from rbx1_nav.calibration.truth_ros import TRUTH_PARAM, GroundTruth
 
@@ -166,8 +166,3 @@ def main(kind, config_type, doc):
         return 1
     node = CalibrationNode(kind, config_type, values)
     return guarded(name, node.runner, node.spin)
-
-
-def run(kind, config_type, doc):
-    """Run the node as a script: main(), then exit with its status."""
-    exit_node('calibrate_' + kind.name, main(kind, config_type, doc))

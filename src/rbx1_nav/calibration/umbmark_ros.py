@@ -15,7 +15,7 @@ import rospy
 
 from rbx1_nav.calibration import umbmark
 from rbx1_nav.calibration.truth_ros import GroundTruth
-from rbx1_nav.common.node_ros import exit_node, start_node
+from rbx1_nav.common.node_ros import start_node
 from rbx1_nav.motion.precise import approach
 from rbx1_nav.motion.runner_ros import MotionRunner, guarded
 from rbx1_nav.motion.aborted import CourseAborted
@@ -147,8 +147,3 @@ def main(specs, doc):
         rospy.logerr('%s: %s; no correction computed', NAME, err)
         return 1
     return 0
-
-
-def run(specs, doc):
-    """Run the node as a script: main(), then exit with its status."""
-    exit_node(NAME, main(specs, doc))

@@ -176,11 +176,3 @@ def main(specs, doc):
             print()  # end the status line
         except OSError:
             pass
-
-
-
-def run(specs, doc):
-    """Run the node as a script: main(), then exit with its status."""
-    status = main(specs, doc)
-    rospy.signal_shutdown('teleop_keyboard finished')
-    sys.exit(status)

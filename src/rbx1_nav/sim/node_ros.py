@@ -46,17 +46,18 @@ class Simulator:
 
 def _run(name, specs, doc, make):
     """Start the node ``name`` (``specs``, ``doc``: rbx1_nav.common.node_ros.start_node),
-    make its Simulator (``make(values)``) and spin it until shutdown; a bad
-    value exits with status 1."""
+    make its Simulator (``make(values)``) and spin it until shutdown; the
+    exit status: 1 for a bad value."""
     values = start_node(name, specs, doc)
     if values is None:
-        raise SystemExit(1)
+        return 1
     try:
         simulator = make(values)
     except (ValueError, ImportError) as err:
         rospy.logfatal('%s: %s', name, err)
-        raise SystemExit(1)
+        return 1
     until_shutdown(simulator.spin)
+    return 0
 
 
 def fake_turtlebot(specs, doc):
@@ -65,7 +66,7 @@ def fake_turtlebot(specs, doc):
     def one_robot(robot, values, lock, index, name):
         return RobotTopics(robot, values, lock)
 
-    _run('fake_turtlebot', specs, doc,
+    return _run('fake_turtlebot', specs, doc,
          lambda values: Simulator(values, [None], one_robot, 'fake_turtlebot'))
 
 
@@ -85,4 +86,4 @@ def fake_fleet(specs, doc):
                       rospy.resolve_name(names[0] + '/tf'))
         return fleet
 
-    _run(name, specs, doc, make)
+    return _run(name, specs, doc, make)

@@ -49,20 +49,22 @@ def run_lockstep(pacer, speed, idle_speed):
 
 def sim_clock(specs, doc):
     """nodes/sim_clock.py: read ``specs`` (``doc`` heads --help), then
-    publish /clock, owning simulated time under /lockstep."""
+    publish /clock, owning simulated time under /lockstep, until shutdown;
+    the exit status (1: a bad parameter)."""
     values = start_node('sim_clock', specs, doc, clock=False)
     if values is None:
-        raise SystemExit(1)
+        return 1
     speed = values['speed']
     pacer = ClockPacer(speed, values['step'], values['start_time'])
     if not rospy.get_param('/use_sim_time', False):
         rospy.logwarn('sim_clock: /use_sim_time is not set; nodes will ignore /clock')
     if lockstep_enabled():
         run_lockstep(pacer, speed, values['idle_speed'])
-        return
+        return 0
     if speed is None:
         rospy.logwarn("sim_clock: ~speed max without /lockstep has nothing to "
                       "wait for: running at real time")
         pacer.set_speed(1.0)
     run_free(pacer)
+    return 0
 
