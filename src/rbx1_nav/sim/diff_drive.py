@@ -40,7 +40,6 @@ __all__ = ['DiffDriveConfig', 'DiffDriveSim', 'DiffDriveFleet', 'FleetRobot',
            'arc_steps', 'columns', 'wrap_angles', 'covariance_from_diagonal']
 
 
-
 def wrap_angles(angles):
     """``angles`` (rad, an array) wrapped to [-pi, pi], as math.remainder does."""
     angles = np.asarray(angles, dtype=float)
