@@ -17,8 +17,9 @@ runs at ~idle_speed, so a waiting simulator does not spin a core for
 nothing; with nobody taking part, at real time.
 """
 from rbx1_nav.common.node_ros import exit_node
-from rbx1_nav.common.params import number, param
+from rbx1_nav.common.params import integer, number, param
 from rbx1_nav.sim_time.clock_ros import sim_clock
+from rbx1_nav.sim_time.lockstep_ros import FIRST_MEMBER
 from rbx1_nav.sim_time.pacer import MAX_SPEED, MAX_START, MAX_STEP, MIN_SPEED, MIN_STEP, speed
 
 PARAMS = (
@@ -33,6 +34,11 @@ PARAMS = (
           maximum=MAX_STEP),
     param('start_time', 0.0, number, 's', 'simulated time at start',
           minimum=0.0, maximum=MAX_START),
+    param('members', 1, integer, '', 'under lockstep: members to wait for '
+          'before time starts (all of a graph\'s: the same start on every run)',
+          minimum=1),
+    param('member_wait', FIRST_MEMBER, number, 's', 'wall time to wait for '
+          'them before starting without the others', minimum=0.0),
 )
 
 NAME = 'sim_clock'

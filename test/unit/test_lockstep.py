@@ -14,14 +14,14 @@ import random
 import pytest
 
 from rbx1_nav.sim_time.lockstep import Owner
-from rbx1_nav.common.lockstep_member import (BACK, HANDLE, REPEAT, STALE, CommandLedger, Follower,
-                                             Report)
+from rbx1_nav.common.lockstep_member import (BACK, HANDLE, NO_TICK, REPEAT, STALE, Follower,
+                                             Inbox, MessageLedger, Report)
 
 MS = 1000000  # ns
 
 
-def report(name, handled, next_time, every_step=False, commands=None, leaving=False):
-    return Report(name, handled, next_time, every_step, commands or {}, leaving)
+def report(name, handled, next_time, every_step=False, sent=None, leaving=False):
+    return Report(name, handled, next_time, every_step, sent or {}, leaving)
 
 
 # -- Owner ---------------------------------------------------------------
@@ -113,6 +113,19 @@ def test_a_next_tick_not_after_the_step_handled_is_refused_with_a_warning():
     assert owner.next_grant() == (20 * MS, ['/course'])
 
 
+def test_a_member_without_a_tick_of_its_own_is_granted_whatever_comes_next():
+    """A filter waiting for its first data (next NO_TICK) follows the
+    others' ticks: a bag player's next message, without steps between."""
+    owner = Owner(start=0, step=10 * MS)
+    owner.report(report('/player', 0, 0))
+    owner.report(report('/ekf', 0, 0))
+    time, names = owner.next_grant()
+    owner.grant(time, names, wall=0.0)
+    owner.report(report('/player', time, 5000 * MS))
+    assert owner.report(report('/ekf', time, NO_TICK)) == (None, None)
+    assert owner.next_grant() == (5000 * MS, ['/ekf', '/player'])
+
+
 def test_a_grant_in_the_past_is_an_error_of_the_owner():
     owner = Owner(start=10 * MS)
     owner.report(report('/course', 0, 0))
@@ -136,10 +149,10 @@ def test_the_owner_drops_silent_members_and_skips_those_gone():
 
 def test_command_counts_outlive_a_member_that_left():
     owner = Owner()
-    owner.report(report('/course', 0, 0, commands={'/cmd_vel': 3}))
+    owner.report(report('/course', 0, 0, sent={'/cmd_vel': 3}))
     assert owner.report(report('/course', 0, 0, leaving=True,
-                               commands={'/cmd_vel': 4})) == ('left', None)
-    assert owner.command_counts() == [('/cmd_vel', '/course', 4)]
+                               sent={'/cmd_vel': 4})) == ('left', None)
+    assert owner.sent_counts() == [('/cmd_vel', '/course', 4)]
     assert owner.next_grant() is None
 
 
@@ -163,10 +176,10 @@ def test_a_new_owner_from_further_back_is_time_moving_back():
     assert follower.grant(2, 20 * MS) == HANDLE
 
 
-# -- CommandLedger --------------------------------------------------------
+# -- MessageLedger and Inbox ----------------------------------------------
 
 def test_the_ledger_waits_only_for_its_own_topics():
-    ledger = CommandLedger(['/robot1/cmd_vel'])
+    ledger = MessageLedger(['/robot1/cmd_vel'])
     counts = [('/robot1/cmd_vel', '/course1', 2), ('/robot2/cmd_vel', '/course2', 5)]
     assert ledger.missing(counts) == [('/robot1/cmd_vel', '/course1', 2)]
     ledger.arrived('/robot1/cmd_vel', '/course1')
@@ -177,7 +190,7 @@ def test_the_ledger_waits_only_for_its_own_topics():
 
 
 def test_commands_lost_on_the_way_are_given_up_once():
-    ledger = CommandLedger(['/cmd_vel'])
+    ledger = MessageLedger(['/cmd_vel'])
     ledger.arrived('/cmd_vel', '/course')
     counts = [('/cmd_vel', '/course', 3)]
     assert ledger.give_up(counts) == [('/cmd_vel', '/course', 2)]
@@ -187,13 +200,46 @@ def test_commands_lost_on_the_way_are_given_up_once():
 
 
 def test_a_simulator_started_late_does_not_wait_for_earlier_commands():
-    ledger = CommandLedger(['/cmd_vel'])
+    ledger = MessageLedger(['/cmd_vel'])
     ledger.arrived('/cmd_vel', '/course')  # one sent after it listened
     ledger.settle([('/cmd_vel', '/course', 120), ('/other/cmd_vel', '/x', 5)])
     assert ledger.missing([('/cmd_vel', '/course', 120)]) == []
     assert ledger.missing([('/cmd_vel', '/course', 121)]) == [('/cmd_vel', '/course', 1)]
     ledger.arrived('/cmd_vel', '/course')
     assert ledger.missing([('/cmd_vel', '/course', 121)]) == []
+
+
+def test_the_inbox_gives_only_what_the_grant_counts_in_stamp_order():
+    """A message published during the step being handled may have arrived
+    or not: taken only once a grant counts it, so every run reads the same."""
+    inbox = Inbox(['/odom', '/imu'])
+    inbox.arrived('/odom', '/sim', 1.0)
+    inbox.arrived('/imu', '/sim', 0.5)
+    inbox.arrived('/odom', '/sim', 2.0)  # sent after the reports of this grant
+    counts = [('/odom', '/sim', 1), ('/imu', '/sim', 1), ('/cmd_vel', '/x', 9)]
+    assert inbox.ledger.missing(counts) == []
+    assert inbox.take(counts, key=float) == [0.5, 1.0]
+    assert inbox.take(counts, key=float) == []  # nothing new counted
+    assert inbox.take([('/odom', '/sim', 2)], key=float) == [2.0]
+
+
+def test_the_inbox_takes_uncounted_senders_as_they_come_and_skips_the_lost():
+    inbox = Inbox(['/odom'])
+    inbox.arrived('/odom', '/rosbag_play', 'free')  # no member: no count
+    inbox.arrived('/odom', '/sim', 'a')
+    counts = [('/odom', '/sim', 3)]
+    assert inbox.ledger.give_up(counts) == [('/odom', '/sim', 2)]
+    assert inbox.take(counts, key=str) == ['a', 'free']
+
+
+def test_the_inbox_of_a_late_member_takes_what_it_heard_before_its_first_grant():
+    inbox = Inbox(['/odom'])
+    inbox.arrived('/odom', '/sim', 'heard')
+    counts = [('/odom', '/sim', 40)]  # 39 sent before it listened
+    inbox.ledger.settle(counts)
+    assert inbox.take(counts, key=str) == ['heard']
+    inbox.arrived('/odom', '/sim', 'next')
+    assert inbox.take([('/odom', '/sim', 41)], key=str) == ['next']
 
 
 # -- A whole graph, with messages delayed and reordered ----------------------
@@ -253,7 +299,7 @@ class OwnerNode(object):
         time, names = grant
         names = self.owner.grant(time, names, 0.0)
         self.granted = time
-        counts = self.owner.command_counts()
+        counts = self.owner.sent_counts()
         for name in list(self.net.nodes):
             if name != 'owner':
                 self.net.send('owner', name, ('grant', self.session, time, names, counts))
@@ -268,7 +314,7 @@ class SimNode(object):
     def __init__(self, net, name='/sim', period=20 * MS):
         self.net, self.name, self.period = net, name, period
         self.follower = Follower()
-        self.ledger = CommandLedger(['cmd_vel'])
+        self.ledger = MessageLedger(['cmd_vel'])
         self.waiting = None   # a grant held until its commands arrive
         self.command = None   # (value, time it was sent for)
         self.applied = []     # (step time, command value, sent for)
@@ -366,12 +412,12 @@ class CourseNode(object):
             self.leave()
             return
         self.net.send(self.name, 'owner', report(self.name, time, time + self.period,
-                                                 commands={'cmd_vel': self.sent}))
+                                                 sent={'cmd_vel': self.sent}))
 
     def leave(self):
         self.done = True
         self.net.send(self.name, 'owner', report(self.name, 0, 0, leaving=True,
-                                                 commands={'cmd_vel': self.sent}))
+                                                 sent={'cmd_vel': self.sent}))
 
 
 def run_graph(seed, courses=2, kill=None, late_join=None, restart_at=None,
@@ -422,7 +468,7 @@ def run_graph(seed, courses=2, kill=None, late_join=None, restart_at=None,
         delivered = [net.deliver_one() for _ in range(rng.randint(0, 3))]
         if not any(delivered) and not any(net.queues.values()) and owner.owner.owing():
             # Stuck until a watchdog acts: here only commands that died
-            # with their sender can be missing (LOST_COMMANDS).
+            # with their sender can be missing (LOST_MESSAGES).
             watchdogs += 1
             assert sim.waiting is not None, 'stuck with nothing to wait for'
             sim.ledger.give_up(sim.waiting[2])

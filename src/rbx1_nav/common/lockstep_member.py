@@ -1,5 +1,6 @@
 """A lockstep member's rules: what a node taking part in lockstep
-simulated time does with each grant, and how a simulator counts commands.
+simulated time does with each grant, and how it counts the messages it
+receives against those the other members reported sending.
 
 Every node that keeps time under lockstep takes part: the simulators, the
 motion nodes, and any node later made a member, so a member's side of the
@@ -11,8 +12,8 @@ rospy here (test/unit/test_lockstep.py).
 """
 import collections
 
-__all__ = ['Follower', 'CommandLedger', 'Report', 'RESEND', 'SILENT',
-           'LOST_COMMANDS', 'HANDLE', 'REPEAT', 'BACK', 'STALE']
+__all__ = ['Follower', 'MessageLedger', 'Inbox', 'Report', 'RESEND', 'SILENT',
+           'LOST_MESSAGES', 'HANDLE', 'REPEAT', 'BACK', 'STALE', 'NO_TICK']
 
 #: Wall seconds a member waits for a grant, or the owner for a report,
 #: before sending its last message again.
@@ -20,19 +21,23 @@ RESEND = 0.5
 #: Wall seconds a granted member may stay silent before the owner drops
 #: it (it rejoins with its next report).
 SILENT = 3.0
-#: Wall seconds a simulator waits for counted commands before taking them
-#: as lost on the way.
-LOST_COMMANDS = 1.0
+#: Wall seconds a member waits for counted messages (a simulator for its
+#: commands, a filter for its sensors) before taking them as lost on the way.
+LOST_MESSAGES = 1.0
+#: A report's ``next`` when the member has no tick of its own (a filter
+#: waiting for its first data): it is granted the next step, whatever it is.
+NO_TICK = 0
 
 #: What a member does with a grant (Follower.grant).
 HANDLE, REPEAT, BACK, STALE = 'handle', 'repeat', 'back', 'stale'
 
 #: A member's report: ``handled`` (ns) the step it answers (None when it
 #: joins), ``next`` (ns) its next tick, ``every_step`` True for a
-#: simulator, ``commands`` a dict {cmd_vel topic: messages sent so far},
-#: ``leaving`` True on its last report.
+#: simulator, ``sent`` a dict {resolved topic: messages published so far}
+#: of the topics it counts (a motion node's cmd_vel, a simulator's sensors,
+#: a filter's estimate), ``leaving`` True on its last report.
 Report = collections.namedtuple(
-    'Report', 'name handled next every_step commands leaving')
+    'Report', 'name handled next every_step sent leaving')
 
 
 class Follower(object):
@@ -64,9 +69,10 @@ class Follower(object):
         self.handled = time
 
 
-class CommandLedger(object):
-    """A simulator's count of the commands it received, per cmd_vel topic
-    and sender, against the counts the motion nodes reported."""
+class MessageLedger(object):
+    """A member's count of the messages it received, per topic and sender,
+    against the counts the other members reported sending (a simulator's
+    commands, a filter's sensor messages)."""
 
     def __init__(self, topics):
         self.topics = set(topics)
@@ -77,25 +83,67 @@ class CommandLedger(object):
         self.received[(topic, sender)] += 1
 
     def missing(self, counts):
-        """[(topic, sender, how many)] of the commands reported in ``counts``
-        ((topic, sender, count) triples) that have not arrived; other
-        simulators' topics are not this one's business."""
+        """[(topic, sender, how many)] of the messages reported in ``counts``
+        ((topic, sender, count) triples) that have not arrived; topics this
+        member does not subscribe to are not its business."""
         return [(topic, sender, count - have)
                 for topic, sender, count in counts if topic in self.topics
                 for have in [self.received[(topic, sender)] + self.lost[(topic, sender)]]
                 if have < count]
 
     def settle(self, counts):
-        """A simulator's first grant: the commands counted before it took
-        part were sent to its predecessor (or before it listened); none of
-        them is awaited."""
+        """A member's first grant: the messages counted before it took part
+        were sent before it listened (or to its predecessor); none of them
+        is awaited."""
         for topic, sender, count in counts:
             if topic in self.topics:
                 self.lost[(topic, sender)] = max(0, count - self.received[(topic, sender)])
 
     def give_up(self, counts):
-        """Take the missing commands of ``counts`` as lost; return them."""
+        """Take the missing messages of ``counts`` as lost; return them."""
         missing = self.missing(counts)
         for topic, sender, short in missing:
             self.lost[(topic, sender)] += short
         return missing
+
+
+class Inbox(object):
+    """A member's input messages, held until a grant counts them.
+
+    Under lockstep a message published during the step being handled may
+    or may not have arrived when the member reads its inputs; so a member
+    that must give the same answer on every run (a filter, a course
+    following a filter's transform) takes only the messages the grant
+    counts, which were all sent before it, and keeps the others for a
+    later grant. Messages from a sender that reports no count (not a
+    member) are taken as they come.
+    """
+
+    def __init__(self, topics):
+        self.ledger = MessageLedger(topics)
+        self.held = collections.defaultdict(collections.deque)  # (topic, sender) -> items
+        self.taken = collections.Counter()  # (topic, sender) -> items taken
+
+    def arrived(self, topic, sender, item):
+        self.ledger.arrived(topic, sender)
+        self.held[(topic, sender)].append(item)
+
+    def take(self, counts, key):
+        """The items the grant's ``counts`` cover that were not taken
+        before, plus every item from an uncounted sender, sorted by
+        ``key(item)`` (then topic, sender and arrival): the same list on
+        every run once :meth:`MessageLedger.missing` is empty. Items
+        counted as lost are skipped."""
+        counted = {(topic, sender): count for topic, sender, count in counts}
+        out = []
+        for source, queue in sorted(self.held.items()):
+            if source in counted:
+                awaited = counted[source] - self.ledger.lost[source]
+                n = min(len(queue), max(0, awaited - self.taken[source]))
+            else:
+                n = len(queue)
+            for index in range(n):
+                out.append((key(queue[0]), source, index, queue.popleft()))
+            self.taken[source] += n
+        out.sort(key=lambda entry: entry[:3])
+        return [entry[3] for entry in out]

@@ -2,8 +2,10 @@
 
 Lockstep is on when both ``/use_sim_time`` and ``/lockstep`` are true
 (sim_clock.launch sets them); on a real robot nothing here runs.
-:class:`Member` is a simulator's or a motion node's part: it joins, waits
-for each grant naming it, reports the step handled, and leaves. The owner
+:class:`Member` is a simulator's, a motion node's, a filter's or a bag
+player's part: it joins, waits for each grant naming it, reports the step
+handled with the messages it published (:meth:`Member.publisher`), and
+leaves. The owner
 that grants the steps is rbx1_nav.sim_time.lockstep_ros.TimeOwner.
 """
 import threading
@@ -11,14 +13,14 @@ import time
 
 import rospy
 
-from rbx1_nav.common.lockstep_member import (LOST_COMMANDS, REPEAT, RESEND, SILENT,
-                                             STALE, CommandLedger, Follower)
+from rbx1_nav.common.lockstep_member import (LOST_MESSAGES, REPEAT, RESEND, SILENT,
+                                             STALE, Follower, Inbox, MessageLedger)
 from rbx1_nav.common.publish_ros import (from_ns, keep_own_time, publish, sender,
                                          synchronous_publisher, to_ns)
 from rbx1_nav.msg import LockstepGrant, LockstepReport
 
-__all__ = ['GRANT_TOPIC', 'REPORT_TOPIC', 'GRANT_LIMIT',
-           'STATE_LIMIT', 'JoinError', 'Member', 'enabled']
+__all__ = ['GRANT_TOPIC', 'REPORT_TOPIC', 'GRANT_LIMIT', 'STATE_LIMIT',
+           'NO_OWNER_WARNING', 'no_owner_text', 'JoinError', 'Member', 'CountedPublisher', 'enabled']
 
 #: Global topics, like /clock: one owner of simulated time per master.
 GRANT_TOPIC = '/lockstep_grant'
@@ -29,6 +31,16 @@ REPORT_TOPIC = '/lockstep_report'
 GRANT_LIMIT = SILENT + 1.0
 #: Wall seconds a motion node waits for its simulator's state at a tick.
 STATE_LIMIT = 1.0
+#: Wall seconds a simulator, filter or bag player waits for a grant before
+#: it says that nothing grants steps.
+NO_OWNER_WARNING = 5.0
+
+
+def no_owner_text(log_name):
+    """The warning of a member that nothing grants steps to."""
+    return ('%s: /lockstep is true but no step granted on %s for %.0f s: '
+            'start sim_clock (roslaunch rbx1_nav sim_clock.launch), or set '
+            '/lockstep false' % (log_name, GRANT_TOPIC, NO_OWNER_WARNING))
 
 
 def enabled():
@@ -42,12 +54,15 @@ class JoinError(Exception):
 
 
 class Member(object):
-    """A lockstep member: a simulator (``every_step``) or a motion node.
+    """A lockstep member: a simulator (``every_step``), a motion node, a
+    filter or a bag player.
 
-    A simulator passes the resolved names of its cmd_vel topics in
-    ``cmd_topics`` and counts each command that arrives with
-    :meth:`command_from`; a motion node counts each one it sends with
-    :meth:`sent`. Once it has joined, a simulator takes its ROS time from
+    A member passes the resolved names of the topics whose counted
+    messages it awaits in ``inputs`` (a simulator its cmd_vel topics) and
+    counts each message that arrives on them with :meth:`arrived`; with
+    ``hold`` it keeps each one until a grant counts it (:meth:`take`). A
+    member counts each message it publishes with :meth:`sent` (or through
+    :meth:`publisher`). Once it has joined, a simulator takes its ROS time from
     the grants, not /clock (:func:`keep_own_time`): it is named in every
     grant, and /clock moves only with them.
 
@@ -57,7 +72,7 @@ class Member(object):
     next tick (ns); :meth:`serve` then runs it.
     """
 
-    def __init__(self, every_step=False, cmd_topics=(), step=None):
+    def __init__(self, every_step=False, inputs=(), step=None, hold=False):
         self.name = rospy.get_name()
         self.every_step = every_step
         self.step = step
@@ -65,8 +80,9 @@ class Member(object):
         self.heard = None       # wall time of the last grant or step handled
         self.failure = None     # what step raised, for serve to raise
         self.follower = Follower()
-        self.ledger = CommandLedger(cmd_topics)
-        self.sent_counts = {}  # topic -> cmd_vel messages sent (motion node)
+        self.inbox = Inbox(inputs) if hold else None
+        self.ledger = self.inbox.ledger if hold else MessageLedger(inputs)
+        self.sent_counts = {}  # topic -> messages published
         self.settled = False   # a simulator's first grant handled
         self.cond = threading.Condition()
         # Orders the reports (report, leave from a shutdown hook, the
@@ -107,7 +123,7 @@ class Member(object):
             taken = self.failure is None and self._take(grant)
             if taken:
                 action, time_ns, _ = taken
-                self.wait_commands(grant)
+                self.wait_counted(grant)
                 self.report(time_ns, self.step(action, time_ns))
         except Exception as err:  # serve raises it in the node's own thread
             with self.cond:
@@ -141,7 +157,7 @@ class Member(object):
             elif now > warn_at:
                 warn_at = now + limit
                 silent()
-        deadline = time.monotonic() + LOST_COMMANDS
+        deadline = time.monotonic() + LOST_MESSAGES
         while self.busy and time.monotonic() < deadline:  # a step under way ends
             rospy.rostime.wallsleep(0.01)                  # before the node does
 
@@ -171,6 +187,18 @@ class Member(object):
             self.own_time = keep_own_time()
         self.joined, self.left = True, False
         self.report(self.follower.handled or 0, 0)
+
+    def join_patiently(self, log_name):
+        """Join, however long the owner takes to come (a simulator, a
+        filter, a bag player: no robot waits on them), warning every
+        NO_OWNER_WARNING s; False at shutdown."""
+        while not rospy.is_shutdown():
+            try:
+                self.join(NO_OWNER_WARNING)
+                return True
+            except JoinError:
+                rospy.logwarn(no_owner_text(log_name))
+        return False
 
     def wait_grant(self, limit=None):
         """Wait for the next step granted to this node; return (action,
@@ -217,12 +245,12 @@ class Member(object):
             if self.joined and self.last is not None:
                 publish(self.pub, self.last)
 
-    def wait_commands(self, grant):
-        """A simulator, before stepping: wait (wall time) until every command
-        counted in ``grant`` has arrived; after LOST_COMMANDS s take the rest
-        as lost, with a warning."""
-        counts = list(zip(grant.cmd_topics, grant.cmd_senders, grant.cmd_counts))
-        deadline = time.monotonic() + LOST_COMMANDS
+    def wait_counted(self, grant):
+        """Before handling ``grant``: wait (wall time) until every message
+        it counts on this member's inputs has arrived; after LOST_MESSAGES s
+        take the rest as lost, with a warning."""
+        counts = list(zip(grant.topics, grant.senders, grant.counts))
+        deadline = time.monotonic() + LOST_MESSAGES
         with self.cond:
             if not self.settled:
                 self.ledger.settle(counts)
@@ -230,7 +258,7 @@ class Member(object):
             while self.ledger.missing(counts):
                 if time.monotonic() > deadline:
                     for topic, name, short in self.ledger.give_up(counts):
-                        rospy.logwarn('%s: %d cmd_vel message(s) from %s on %s lost '
+                        rospy.logwarn('%s: %d message(s) from %s on %s lost '
                                       'on the way; going on without them',
                                       self.name, short, name, topic)
                 elif rospy.is_shutdown():
@@ -238,15 +266,32 @@ class Member(object):
                 else:
                     self.cond.wait(0.05)
 
-    def command_from(self, topic, msg):
-        """A simulator: count a command that arrived on ``topic``."""
+    def arrived(self, topic, msg, item=None):
+        """Count a message that arrived on ``topic`` (an input); with
+        ``hold``, keep ``item`` (what the member needs of it) for :meth:`take`."""
         with self.cond:
-            self.ledger.arrived(topic, sender(msg))
+            if self.inbox is None:
+                self.ledger.arrived(topic, sender(msg))
+            else:
+                self.inbox.arrived(topic, sender(msg), item)
             self.cond.notify_all()
 
+    def take(self, grant, key):
+        """With ``hold``: the items of the messages ``grant`` counts on the
+        inputs (waited for as :meth:`wait_counted` does), in the order of
+        ``key(item)``: the same on every run (rbx1_nav.common.lockstep_member.Inbox)."""
+        self.wait_counted(grant)
+        with self.cond:
+            return self.inbox.take(zip(grant.topics, grant.senders, grant.counts), key)
+
     def sent(self, topic):
-        """A motion node: count a command it published on ``topic``."""
+        """Count a message this member published on ``topic`` (resolved)."""
         self.sent_counts[topic] = self.sent_counts.get(topic, 0) + 1
+
+    def publisher(self, topic, msg_class):
+        """A publisher on ``topic`` whose every message is written before
+        publish() returns and counted in this member's reports."""
+        return CountedPublisher(self, topic, msg_class)
 
     def report(self, handled_ns, next_ns, leaving=False):
         """Handled ``handled_ns``; ``next_ns`` its next tick. After leave()
@@ -259,8 +304,8 @@ class Member(object):
             topics = sorted(self.sent_counts)
             self.last = LockstepReport(
                 handled=from_ns(handled_ns), next=from_ns(next_ns),
-                every_step=self.every_step, leaving=leaving, cmd_topics=topics,
-                cmd_counts=[self.sent_counts[t] for t in topics])
+                every_step=self.every_step, leaving=leaving, topics=topics,
+                counts=[self.sent_counts[t] for t in topics])
             publish(self.pub, self.last)
 
     def leave(self):
@@ -271,3 +316,21 @@ class Member(object):
                 return
             self.report(self.follower.handled or 0, 0, leaving=True)
             self.joined, self.left = False, True
+
+
+class CountedPublisher(object):
+    """A member's publisher (:meth:`Member.publisher`): synchronous, and
+    every message counted in the member's reports, so the members that
+    read the topic wait for it."""
+
+    def __init__(self, member, topic, msg_class):
+        self.member = member
+        self.pub = synchronous_publisher(topic, msg_class)
+        self.resolved_name = self.pub.resolved_name
+
+    def publish(self, msg):
+        publish(self.pub, msg)
+        self.member.sent(self.resolved_name)
+
+    def get_num_connections(self):
+        return self.pub.get_num_connections()

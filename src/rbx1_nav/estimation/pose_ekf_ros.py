@@ -2,6 +2,15 @@
 service and the filter loop, wired to
 :class:`rbx1_nav.estimation.fusion.GyroOdomFusion`.
 
+Under lockstep simulated time (rbx1_nav.common.lockstep_member_ros) the
+filter is a member: granted each of its ticks, it takes exactly the
+sensor messages the grant counts (the simulator's or bag player's, all
+sent before the grant), feeds them in stamp order at the tick's time,
+steps, publishes its estimate counted, and reports its next tick. So a
+replay or a simulated course gives the same estimates to the last digit
+however busy the machine; until its first estimate it has no tick of its
+own and follows the other members' steps.
+
 Messages become plain values and back in
 :mod:`rbx1_nav.estimation.pose_ekf`; the texts come from
 :mod:`rbx1_nav.estimation.status`. The node file declares the parameters
@@ -9,6 +18,7 @@ and calls :func:`main`.
 """
 import math
 import threading
+import time
 
 import rospy
 import tf2_ros
@@ -16,6 +26,8 @@ from geometry_msgs.msg import PoseWithCovarianceStamped
 from std_srvs.srv import Trigger, TriggerResponse
 from tf2_msgs.msg import TFMessage
 
+from rbx1_nav.common import lockstep_member_ros as lockstep
+from rbx1_nav.common.lockstep_member import BACK, NO_TICK
 from rbx1_nav.common.master_ros import MasterWatch, reregister_node
 from rbx1_nav.common.node_ros import start_node, until_shutdown
 from rbx1_nav.common.ros_time import time_moved_back_text
@@ -31,6 +43,10 @@ from rbx1_nav.estimation.status import (OtherPublisherWatch, listening_text,
 
 WARN_PERIOD = 5.0  # s between repeats of the same warning
 CONFLICT_PERIOD = 30.0  # s between repeats of the second-publisher error
+#: Wall seconds the filter waits, under lockstep, for each of its inputs
+#: to be connected to a publisher before it joins (a message published
+#: before its connection never arrives, so it is not awaited).
+INPUT_WAIT = 10.0
 
 
 def connected_publishers(subscriber):
@@ -51,6 +67,7 @@ class PoseEkfNode(object):
 
     def __init__(self, values):
         started = rospy.Time.now()  # before the topics connect
+        self.member = None
         self.output_frame = values['output_frame']
         self.base_frame = values['base_footprint_frame']
         self.freq = values['freq']
@@ -62,19 +79,29 @@ class PoseEkfNode(object):
             used['gps'], topics, values['gps_kalman'],
             math.radians(values['gps_frame_rotation_sd'])
             if values['gps_frame_rotation'] else None, self.freq)
-        if not started.is_zero():
-            self.fusion.start(started.to_sec())
         self.lock = threading.Lock()
-        self.pub = rospy.Publisher('~odom_combined', PoseWithCovarianceStamped,
-                                   queue_size=10)
-        self.tf = tf2_ros.TransformBroadcaster() if self.publish_tf else None
-        callbacks = {'odom': self.on_odom, 'imu': self.on_imu,
-                     'vo': self.on_vo, 'gps': self.on_gps}
+        if lockstep.enabled():
+            self.member = lockstep.Member(
+                inputs=[topics[name] for name in TOPICS if used[name]], hold=True)
+            self.pub = self.member.publisher(rospy.resolve_name('~odom_combined'),
+                                             PoseWithCovarianceStamped)
+            self.tf = (self.member.publisher(rospy.resolve_name('/tf'), TFMessage)
+                       if self.publish_tf else None)
+        else:
+            if not started.is_zero():
+                self.fusion.start(started.to_sec())
+            self.pub = rospy.Publisher('~odom_combined', PoseWithCovarianceStamped,
+                                       queue_size=10)
+            self.tf = tf2_ros.TransformBroadcaster() if self.publish_tf else None
+        self.feeds = {'odom': (self.fusion.add_odom, planar_pose),
+                      'imu': (self.fusion.add_imu, imu_yaw),
+                      'vo': (self.fusion.add_vo, planar_pose),
+                      'gps': (self.fusion.add_gps, gps_fix)}
         self.subs, self.topics = {}, {}
         for name, (topic, msg_type) in TOPICS.items():
             if used[name]:
-                sub = rospy.Subscriber(topic, msg_type, callbacks[name],
-                                       queue_size=50)
+                sub = rospy.Subscriber(topic, msg_type, self.on_sensor, name,
+                                       queue_size=None if self.member else 50)
                 self.subs[name], self.topics[name] = sub, sub.resolved_name
         rospy.loginfo('pose_ekf: ' + listening_text(
             self.topics, self.pub.resolved_name, self.output_frame,
@@ -90,18 +117,29 @@ class PoseEkfNode(object):
                                         self.on_get_status)
 
     # -- inputs -----------------------------------------------------------------
-    def _feed(self, name, add, unpack, msg):
-        """Give the filter one message of sensor ``name``.
+    def on_sensor(self, msg, name):
+        """A message of sensor ``name`` (odom, imu, vo, gps): to the filter
+        at once, or under lockstep held until a grant counts it."""
+        if self.member is not None:
+            self.member.arrived(self.topics[name], msg, (name, msg))
+        else:
+            self._feed(name, msg)
 
-        ``unpack(inputs, name, msg)`` (rbx1_nav.estimation.pose_ekf) gives
+    def _feed(self, name, msg, now=None):
+        """Give the filter one message of sensor ``name``, received at ROS
+        time ``now`` (None: read now).
+
+        ``unpack(inputs, name, msg)`` (rbx1_nav.estimation.pose_ekf: an
+        odometry or visual odometry pose, the IMU's yaw, a GPS fix) gives
         the reading's arguments to ``add`` after the receive time and the
         stamp. The ROS time is read under the lock, so the filter sees it
         in order; a drop (RejectedInput) is logged outside the lock, at
         most once per sensor and kind every 10 s.
         """
+        add, unpack = self.feeds[name]
         texts = []
         with self.lock:
-            now = self._clock_now(texts)
+            now = self._clock_now(texts, now)
             try:
                 add(now, msg.header.stamp.to_sec(),
                     *unpack(self.fusion.inputs, name, msg))
@@ -112,30 +150,16 @@ class PoseEkfNode(object):
             if text:
                 rospy.logwarn('pose_ekf: ' + text)
 
-    def _clock_now(self, texts):
-        """ROS time in seconds; restarts the filter (and says so in
-        ``texts``) should it have moved backwards. Call under the lock."""
-        now = rospy.Time.now().to_sec()
+    def _clock_now(self, texts, now=None):
+        """ROS time in seconds (``now`` if given); restarts the filter (and
+        says so in ``texts``) should it have moved backwards. Call under
+        the lock."""
+        if now is None:
+            now = rospy.Time.now().to_sec()
         back = self.fusion.check_clock(now)
         if back > 0.0:
             texts.append(time_moved_back_text(back))
         return now
-
-    def on_odom(self, msg):
-        """Hand an odometry pose and its covariance to the filter."""
-        self._feed('odom', self.fusion.add_odom, planar_pose, msg)
-
-    def on_vo(self, msg):
-        """Hand a visual odometry pose and its covariance to the filter."""
-        self._feed('vo', self.fusion.add_vo, planar_pose, msg)
-
-    def on_gps(self, msg):
-        """Hand a GPS fix (x, y; z ignored) and its covariance to the filter."""
-        self._feed('gps', self.fusion.add_gps, gps_fix, msg)
-
-    def on_imu(self, msg):
-        """Hand the IMU's yaw and its variance to the filter."""
-        self._feed('imu', self.fusion.add_imu, imu_yaw, msg)
 
     def on_tf(self, msg):
         """Spot another node publishing our child frame on tf."""
@@ -162,16 +186,17 @@ class PoseEkfNode(object):
                                message=text)
 
     # -- the loop ---------------------------------------------------------------
-    def step(self):
-        """One filter step; publish the estimate if it took in new data.
+    def step(self, now=None):
+        """One filter step at ROS time ``now`` (None: read now); publish the
+        estimate if it took in new data.
 
         A non-finite estimate is never published: the filter restarts.
         """
-        if rospy.Time.now().is_zero():  # simulated time has not started
+        if now is None and rospy.Time.now().is_zero():  # simulated time has not started
             return
         texts = []
         with self.lock:
-            now = self._clock_now(texts)
+            now = self._clock_now(texts, now)
             try:
                 events = self.fusion.step(now)
                 estimates = self.fusion.new_estimates
@@ -205,11 +230,19 @@ class PoseEkfNode(object):
         msg = pose_message(rospy.Time.from_sec(stamp), self.output_frame,
                            pose, cov3)
         self.pub.publish(msg)
-        if self.tf is not None:
-            self.tf.sendTransform(transform_message(msg, self.base_frame))
+        if self.tf is None:
+            return
+        transform = transform_message(msg, self.base_frame)
+        if self.member is None:
+            self.tf.sendTransform(transform)
+        else:
+            self.tf.publish(TFMessage([transform]))
 
     def spin(self):
         """Step at ``~freq`` (ROS time, so sim time works) until shutdown."""
+        if self.member is not None:
+            self.spin_lockstep()
+            return
         rate = rospy.Rate(self.freq)
         while not rospy.is_shutdown():
             self.step()
@@ -219,6 +252,54 @@ class PoseEkfNode(object):
                 pass  # the next step notices it, says so and restarts
             except rospy.ROSInterruptException:
                 break
+
+    def spin_lockstep(self):
+        """Step at each tick granted (a grid of 1/~freq s) until shutdown."""
+        member = self.member
+        rospy.on_shutdown(member.leave)
+        self.wait_for_inputs()
+        if not member.join_patiently('pose_ekf'):
+            return
+        period = int(round(1e9 / self.freq))
+        started = False
+        while not rospy.is_shutdown():
+            granted = member.wait_grant(lockstep.NO_OWNER_WARNING)
+            if granted is None:
+                if not rospy.is_shutdown():
+                    rospy.logwarn(lockstep.no_owner_text('pose_ekf'))
+                continue
+            action, tick, grant = granted
+            now = tick * 1e-9
+            if action == BACK:
+                started = False
+            taken = member.take(grant, key=lambda item: (
+                item[1].header.stamp.to_nsec(), item[0]))
+            if taken and not started:
+                # Start-up counts from the first data: the time before it
+                # (a bag's player not granted yet) is not the sensors' silence.
+                self.fusion.start(now)
+                started = True
+            for name, msg in taken:
+                self._feed(name, msg, now)
+            self.step(now)
+            member.report(tick, NO_TICK if self.fusion.estimate is None
+                          else (tick // period + 1) * period)
+
+    def wait_for_inputs(self):
+        """Wait up to INPUT_WAIT wall s until each input has a publisher
+        connected (a message sent before never arrives, so is not awaited:
+        rbx1_nav.common.lockstep_member.MessageLedger.settle)."""
+        deadline = time.monotonic() + INPUT_WAIT
+        while not rospy.is_shutdown():
+            silent = [topic for name, topic in sorted(self.topics.items())
+                      if not self.subs[name].get_num_connections()]
+            if not silent:
+                return
+            if time.monotonic() > deadline:
+                rospy.logwarn('pose_ekf: nothing publishes %s yet; joining the '
+                              'lockstep without it', ', '.join(silent))
+                return
+            rospy.rostime.wallsleep(0.05)
 
 
 def main(specs, doc):

@@ -42,7 +42,7 @@ from rbx1_nav.motion.aborted import CourseAborted
 from rbx1_nav.motion.cmd_vel_ros import CmdVel
 from rbx1_nav.motion.precise import Breakaway
 from rbx1_nav.motion.summary import stalls_text, summary_line
-from rbx1_nav.motion.tf_follow_ros import TfFollower
+from rbx1_nav.motion.tf_follow_ros import TF_TOPIC, TfFollower
 from rbx1_nav.motion.ticks_ros import Ticks
 from rbx1_nav.motion.watchdogs_ros import (ClockWatchdog, DropoutHold,
                                            StallWarnings, TfAgeWarnings,
@@ -99,7 +99,8 @@ class MotionRunner(object):
         self.settings = settings
         self.require_tf = require_tf
         self.ticks = Ticks(settings['rate'],
-                           lockstep.Member() if lockstep.enabled() else None,
+                           lockstep.Member(inputs=[rospy.resolve_name(TF_TOPIC)], hold=True)
+                           if lockstep.enabled() else None,
                            settings['tf_wait'], settings['tf_timeout'],
                            self.stop)
         # Under lockstep each command is on its way before the tick's report.
@@ -109,7 +110,8 @@ class MotionRunner(object):
         # on_shutdown hooks run before rospy closes its topics (Ctrl-C,
         # rosnode kill, roslaunch ending), so this stop still goes out.
         rospy.on_shutdown(self.halt)
-        self.tf = TfFollower(name, settings['odom_frame'], settings['base_frame'])
+        self.tf = TfFollower(name, settings['odom_frame'], settings['base_frame'],
+                             self.ticks.member)
         self.stalls = StallWarnings(name)
         self.tf_age = TfAgeWarnings(name, settings['max_tf_age'])
         self.clock_watchdog = ClockWatchdog(name, settings['tf_timeout'],
@@ -206,7 +208,7 @@ class MotionRunner(object):
             if fresh_at is None:
                 fresh_at = now
             reading = (None if blind
-                       else self.tf.reading(now, self.ticks.granted))
+                       else self.tf.reading(now, self.ticks.grant))
             if reading is not None and (last_stamp is None
                                         or reading[1] > last_stamp):
                 pose, last_stamp = reading

@@ -2,9 +2,11 @@
 
 :class:`TfFollower` finds the base frame (~base_frame, or the first of
 base_footprint and base_link that tf has), looks up the latest transform
-as a Pose2D, and under lockstep reads the simulator's state at a tick:
-it waits (wall time) for the transform stamped at that tick, woken by
-each /tf message rather than polling.
+as a Pose2D, and under lockstep reads the state at a tick: a
+simulator's, stamped at that very tick (it waits, in wall time, woken by
+each /tf message rather than polling), or another member's (a filter's,
+whose stamps are not ticks): the transform of the last of its messages
+the grant counts, whatever came after (the same on every run).
 """
 import threading
 
@@ -13,24 +15,28 @@ import tf2_ros
 import yaml
 
 from rbx1_nav.common import lockstep_member_ros as lockstep
-from rbx1_nav.common.publish_ros import to_ns
+from rbx1_nav.common.publish_ros import sender, to_ns
 from rbx1_nav.motion.aborted import CourseAborted
 from rbx1_nav.motion.deadline_ros import Deadline
 from rbx1_nav.transform_utils import Pose2D, quat_to_angle
 
 BASE_FRAME_CANDIDATES = ('base_footprint', 'base_link')
+#: The tf topic, as tf2_ros's listener names it (so a remap of /tf applies).
+TF_TOPIC = '/tf'
 
 
 class _Listener(tf2_ros.TransformListener):
     """tf2 listener that wakes :meth:`wait` on every /tf message, over
     connections without Nagle's delay."""
 
-    def __init__(self, buffer):
+    def __init__(self, buffer, on_message):
         self.cond = threading.Condition()
+        self.on_message = on_message
         super(_Listener, self).__init__(buffer, tcp_nodelay=True)
 
     def callback(self, data):
         super(_Listener, self).callback(data)
+        self.on_message(data)
         with self.cond:
             self.cond.notify_all()
 
@@ -42,20 +48,37 @@ class _Listener(tf2_ros.TransformListener):
 
 class TfFollower(object):
     """The transform ``odom_frame -> base_frame`` ('' = automatic) the
-    node steers by; ``name`` is the node's, for its warnings."""
+    node steers by; ``name`` is the node's, for its warnings; ``member``
+    its lockstep membership (None off lockstep), made with the resolved
+    /tf topic (:data:`TF_TOPIC`) as input, ``hold`` true."""
 
-    def __init__(self, name, odom_frame, base_frame):
+    def __init__(self, name, odom_frame, base_frame, member=None):
         self.name = name
         self.odom_frame = odom_frame
         self.base_frame = base_frame  # '' = automatic
         self.followed = None  # the base frame found on tf
+        self.member = member
+        self.tf_topic = rospy.resolve_name(TF_TOPIC)
         self.buffer = tf2_ros.Buffer()
-        self.listener = _Listener(self.buffer)
-        # Lockstep: the simulator whose transform is followed (None: not
-        # a simulator's), and how long (wall s) to wait for its state at
-        # a tick.
+        self.listener = _Listener(self.buffer, self._on_tf)
+        # Lockstep: the node broadcasting the followed transform, whether
+        # it is a simulator, how long (wall s) to wait for a simulator's
+        # state at a tick, and the stamp (ns) of the last transform of
+        # the broadcaster that a grant counted.
+        self.broadcaster = None
         self.simulator = None
         self.state_wait = lockstep.STATE_LIMIT
+        self.counted = None
+
+    def _on_tf(self, msg):
+        """Under lockstep: count each /tf message, keeping (sender, stamp ns
+        of the followed transform in it or None) until a grant counts it."""
+        if self.member is None:
+            return
+        stamps = [to_ns(t.header.stamp) for t in msg.transforms
+                  if t.child_frame_id.lstrip('/') == self.followed]
+        self.member.arrived(self.tf_topic, msg,
+                            (sender(msg), max(stamps) if stamps else None))
 
     def find_base_frame(self, wait, wall, require_tf):
         """Wait up to ``wait`` s (wall s when ``wall``) for odom -> base;
@@ -91,43 +114,56 @@ class TfFollower(object):
             'launch) on a real robot; or set ~odom_frame / ~base_frame to the '
             'frames your robot uses.' % problem)
 
-    def lookup(self):
-        """(Pose2D, stamp) of the latest odom -> base transform, or None."""
+    def lookup(self, stamp=None):
+        """(Pose2D, stamp) of the odom -> base transform at ``stamp`` (None:
+        the latest), or None."""
         try:
             tf = self.buffer.lookup_transform(self.odom_frame, self.followed,
-                                              rospy.Time(0))
+                                              stamp or rospy.Time(0))
         except tf2_ros.TransformException:
             return None
         t, q = tf.transform.translation, tf.transform.rotation
         return Pose2D(t.x, t.y, quat_to_angle(q)), tf.header.stamp
 
     def pick_simulator(self, simulators):
-        """Under lockstep, on joining: follow the state of the simulator in
-        ``simulators`` that broadcasts the followed transform, if any (a
+        """Under lockstep, on joining: note who broadcasts the followed
+        transform, and whether it is one of the ``simulators`` (a
         filter's transform has stamps that are not steps). None when
         blind (no transform followed)."""
+        self.simulator = self.broadcaster = None
         if self.followed is None:
-            self.simulator = None
             return
         frames = yaml.safe_load(self.buffer.all_frames_as_yaml()) or {}
-        broadcaster = frames.get(self.followed, {}).get('broadcaster')
-        self.simulator = broadcaster if broadcaster in simulators else None
+        self.broadcaster = frames.get(self.followed, {}).get('broadcaster')
+        if self.broadcaster in simulators:
+            self.simulator = self.broadcaster
 
-    def reading(self, now, granted):
-        """(pose, stamp) for the tick at ``now``, or None.
+    def reading(self, now, grant):
+        """(pose, stamp) for the tick at ``now``, or None; ``grant`` the
+        lockstep grant of that tick (None off lockstep).
 
         Under lockstep, following the transform of a simulator granted the
-        same tick (in ``granted``), first wait for its state at that very
-        time (it publishes it on the same grant). If it does not come
-        within STATE_LIMIT wall seconds (the simulator died) the next
-        ticks take what there is, until it catches up; the staleness check
-        then ends the course.
+        same tick, first wait for its state at that very time (it
+        publishes it on the same grant). If it does not come within
+        STATE_LIMIT wall seconds (the simulator died) the next ticks take
+        what there is, until it catches up; the staleness check then ends
+        the course. Following another member's transform (a filter's),
+        take the last one the grant counts (waiting for it, as a
+        simulator waits for its commands), not one published since.
         """
-        if self.simulator is not None and self.simulator in granted:
-            tick = to_ns(now)
-            arrived = self.listener.wait(lambda: self._stamp() >= tick,
-                                         self.state_wait)
-            self.state_wait = lockstep.STATE_LIMIT if arrived else 0.0
+        if grant is None:
+            return self.lookup()
+        for who, stamp in self.member.take(grant, key=lambda item: 0):
+            if who == self.broadcaster and stamp is not None:
+                self.counted = max(stamp, self.counted or 0)
+        if self.simulator is not None:
+            if self.simulator in grant.members:
+                tick = to_ns(now)
+                arrived = self.listener.wait(lambda: self._stamp() >= tick,
+                                             self.state_wait)
+                self.state_wait = lockstep.STATE_LIMIT if arrived else 0.0
+        elif self.counted is not None and self.broadcaster in grant.senders:
+            return self.lookup(rospy.Time(nsecs=self.counted))
         return self.lookup()
 
     def _stamp(self):

@@ -28,7 +28,7 @@ class Ticks(object):
         self.join_wait = join_wait
         self.grant_wait = grant_wait
         self.stop = stop
-        self.granted = set()  # the members granted the current tick
+        self.grant = None  # the lockstep grant of the current tick
 
     def ticks(self, joined=lambda: None):
         """The control ticks (ROS times). Under lockstep ``joined()`` runs
@@ -60,7 +60,7 @@ class Ticks(object):
                     '/clock has not advanced: no lockstep step granted for %.1f s '
                     'of wall time (sim_clock gone?); stopped the robot' % limit)
             action, tick, grant = granted
-            self.granted = set(grant.members)
+            self.grant = grant
             if action == BACK:
                 raise rospy.ROSTimeMovedBackwardsException(
                     (member.follower.handled - tick) * 1e-9)

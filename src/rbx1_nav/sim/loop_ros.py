@@ -14,7 +14,7 @@ from rbx1_nav.common.lockstep_member import BACK
 from rbx1_nav.common.publish_ros import from_ns
 from rbx1_nav.common.cmd_vel_watch_ros import watch_publishers
 
-__all__ = ['spin_simulator', 'spin_on_ros_time', 'spin_lockstep', 'NO_OWNER_WARNING']
+__all__ = ['spin_simulator', 'spin_on_ros_time', 'spin_lockstep']
 
 
 def spin_simulator(rate, step, robots, log_name):
@@ -67,11 +67,6 @@ def spin_on_ros_time(rate, step, log_name):
             break
 
 
-#: Wall seconds a simulator under lockstep waits for a grant before it
-#: says that nothing grants steps.
-NO_OWNER_WARNING = 5.0
-
-
 def spin_lockstep(rate, step, robots, log_name):
     """:func:`spin_on_ros_time` as a lockstep simulator (rbx1_nav.sim_time.lockstep).
 
@@ -86,20 +81,13 @@ def spin_lockstep(rate, step, robots, log_name):
     """
     grid = _Grid(int(round(1e9 / rate)), step, robots, log_name)
     member = lockstep.Member(every_step=True, step=grid.step_to,
-                             cmd_topics=[r.cmd_sub.resolved_name for r in robots])
+                             inputs=[r.cmd_sub.resolved_name for r in robots])
     for robot in robots:
         robot.member = member
     rospy.on_shutdown(member.leave)
-    no_owner = ('%s: /lockstep is true but no step granted on %s for %.0f s: '
-                'start sim_clock (roslaunch rbx1_nav sim_clock.launch), or set '
-                '/lockstep false' % (log_name, lockstep.GRANT_TOPIC, NO_OWNER_WARNING))
-    while not rospy.is_shutdown():
-        try:
-            member.join(NO_OWNER_WARNING)
-            break
-        except lockstep.JoinError:
-            rospy.logwarn(no_owner)
-    member.serve(NO_OWNER_WARNING, lambda: rospy.logwarn(no_owner))
+    member.join_patiently(log_name)
+    member.serve(lockstep.NO_OWNER_WARNING, lambda: rospy.logwarn(
+        lockstep.no_owner_text(log_name)))
 
 
 class _Grid(object):

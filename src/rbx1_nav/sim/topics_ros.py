@@ -156,7 +156,8 @@ class RobotTopics:
         world.transform.rotation.w = 1.0
         self.static_tf.publish(TFMessage([world]))
         # Under lockstep (rbx1_nav.sim.loop_ros.spin_simulator): the
-        # simulator's membership, which counts every command, and the step
+        # simulator's membership, which counts every command and sensor
+        # message, and the step
         # being handled, the time of every command that arrives until the
         # next (None: ROS time).
         self.member = None
@@ -172,7 +173,7 @@ class RobotTopics:
         with self.lock:
             problem = self.robot.command(msg.linear.x, msg.angular.z, now)
         if self.member is not None:
-            self.member.command_from(self.cmd_sub.resolved_name, msg)
+            self.member.arrived(self.cmd_sub.resolved_name, msg)
         if problem is None or not self.throttle.ready(problem, now):
             return
         if problem == 'non-finite':
@@ -217,7 +218,7 @@ class RobotTopics:
                                                  self.base_frame, robot.truth,
                                                  robot.velocity))
         if self.imu_pub and self.imu_pub.get_num_connections():
-            self.imu_pub.publish(self.imu_message(stamp))
+            self.send_sensor(self.imu_pub, self.imu_message(stamp))
         if self.gps_pub:
             self.publish_gps_fix(stamp)
 
@@ -229,7 +230,7 @@ class RobotTopics:
                              odom_pose, robot.odom_velocity)
         odom.pose.covariance = self.pose_cov
         odom.twist.covariance = self.twist_cov
-        self.odom_pub.publish(odom)
+        self.send_sensor(self.odom_pub, odom)
 
         if self.tf_pub:
             tf = TransformStamped()
@@ -264,7 +265,14 @@ class RobotTopics:
             [variance, variance] + [GPS_UNKNOWN_VARIANCE] * 4)
         fix.twist.covariance = covariance_from_diagonal(
             [GPS_UNKNOWN_VARIANCE] * 6)
-        self.gps_pub.publish(fix)
+        self.send_sensor(self.gps_pub, fix)
+
+    def send_sensor(self, pub, msg):
+        """Publish a sensor message a filter may read: under lockstep it is
+        counted in the simulator's report, so the filter waits for it."""
+        pub.publish(msg)
+        if self.member is not None:
+            self.member.sent(pub.resolved_name)
 
     def imu_message(self, stamp):
         """sensor_msgs/Imu with the gyro's yaw and yaw rate (no accelerometer)."""

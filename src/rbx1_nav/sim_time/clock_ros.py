@@ -26,7 +26,7 @@ def run_free(pacer):
             break
 
 
-def run_lockstep(pacer, speed, idle_speed):
+def run_lockstep(pacer, speed, idle_speed, members=1, member_wait=lockstep_ros.FIRST_MEMBER):
     """Own simulated time: each step goes to /clock, then to the members
     it is granted to, and the next starts once they have handled it."""
     pacer.advance(time.monotonic())  # a first time after 0, which ROS reads as unset
@@ -35,7 +35,7 @@ def run_lockstep(pacer, speed, idle_speed):
     owner = lockstep_ros.TimeOwner(pacer.sim_ns, pacer.step_ns, batch=speed is None)
     # Time starts with its members: the simulators (and the nodes of an
     # earlier sim_clock, started again from further back) join first.
-    owner.wait_for_members(lockstep_ros.FIRST_MEMBER)
+    owner.wait_for_members(member_wait, members)
 
     def plan(grant, drives):
         target, names = grant if grant else (None, [])
@@ -59,7 +59,8 @@ def sim_clock(specs, doc):
     if not rospy.get_param('/use_sim_time', False):
         rospy.logwarn('sim_clock: /use_sim_time is not set; nodes will ignore /clock')
     if lockstep_enabled():
-        run_lockstep(pacer, speed, values['idle_speed'])
+        run_lockstep(pacer, speed, values['idle_speed'], values['members'],
+                     values['member_wait'])
         return 0
     if speed is None:
         rospy.logwarn("sim_clock: ~speed max without /lockstep has nothing to "

@@ -19,12 +19,20 @@ The members:
 * A **motion node** is granted only its own ticks: at T it reads the
   simulator's state stamped T, publishes its command and reports, with the
   number of ``cmd_vel`` messages it has sent on each topic so far.
+* A **filter** (pose_ekf.py) is granted its own ticks too, and a **bag
+  player** (lockstep_play.py) the stamps of its messages.
 
-Each grant carries those command counts, so a simulator granted a step
-first waits until it has received every command that the reports behind
-the grant counted (commands travel on their own connections). ``/clock``
-is published for ordinary nodes (RViz, rosbag, pose_ekf, a user's script);
-no member waits for it. Time jumps from event to event: the next grant is
+Every member reports how many messages it has published on each topic it
+counts (commands, sensor messages, estimates), and each grant carries
+those counts, so a member granted a step first waits until it has
+received every message on its own inputs that the reports behind the
+grant counted (messages travel on their own connections): a simulator its
+commands, a filter its sensor messages. A member whose answer must not
+depend on when a message arrives (a filter, a course following a
+filter's transform) then takes only those counted messages, and keeps any
+newer one for its next grant (rbx1_nav.common.lockstep_member.Inbox).
+``/clock`` is published for ordinary nodes (RViz, rosbag, a user's
+script); no member waits for it. Time jumps from event to event: the next grant is
 the earliest next tick any member asked for, so a 20 Hz course on a 50 Hz
 simulator costs the union of both grids, not a 10 ms walk. With ``batch``
 (sim_clock at full speed, where nothing watches the wall clock) only the
@@ -38,8 +46,8 @@ Why nothing can wait forever (the deadlock argument):
 1. The owner waits only for the reports of the members it granted. A
    member's handling of a grant waits only on messages already sent before
    the grant, or sent by another member handling the same grant without
-   waiting for anyone: the simulator waits for commands counted in reports
-   the owner has already received (sent before those reports); a motion
+   waiting for anyone: a simulator or a filter waits for messages counted
+   in reports the owner has already received (sent before those reports); a motion
    node waits for the simulator's state at T, which the simulator publishes
    without waiting for any node at T. The wait-for relation within a step
    is node -> simulator -> earlier messages: it has no cycle.
@@ -50,8 +58,8 @@ Why nothing can wait forever (the deadlock argument):
    late message costs a re-send, never a frozen graph.
 3. Every wait has a watchdog in wall time: the owner drops a member whose
    connection closed at once and a silent one after SILENT (it rejoins
-   with its next report); a simulator goes on without commands lost on
-   the way after LOST_COMMANDS; a motion node stops waiting for state that
+   with its next report); a member goes on without messages lost on
+   the way after LOST_MESSAGES; a motion node stops waiting for state that
    does not come (the simulator died) and its tf watchdog ends the course.
 
 Joining: a member sends a report without having been granted anything; its
@@ -60,10 +68,10 @@ owner, started from further back, takes over members of an old one).
 Leaving: a report marked leaving, or the member's connection closing.
 Times are integer nanoseconds; no rospy here, so the rules are unit-tested
 without a master (test/unit/test_lockstep.py). A member's side of the rules
-(Follower, CommandLedger) is rbx1_nav.common.lockstep_member: every
+(Follower, MessageLedger, Inbox) is rbx1_nav.common.lockstep_member: every
 node that keeps time takes part, so it is common ground; the owner is here.
 """
-from rbx1_nav.common.lockstep_member import SILENT
+from rbx1_nav.common.lockstep_member import NO_TICK, SILENT
 
 __all__ = ['Owner']
 
@@ -89,13 +97,13 @@ class Owner(object):
         self.step = step
         self.batch = batch
         self.members = {}   # name -> _Member
-        self.commands = {}  # (topic, sender) -> cmd_vel messages it sent
+        self.sent = {}  # (topic, sender) -> messages it published
 
     def report(self, report):
         """Take a report; return (change, warning): change is 'joined',
         'left' or None, warning a sentence or None."""
-        for topic, count in report.commands.items():
-            self.commands[(topic, report.name)] = count
+        for topic, count in report.sent.items():
+            self.sent[(topic, report.name)] = count
         member = self.members.get(report.name)
         if report.leaving:
             return ('left' if self.members.pop(report.name, None) else None), None
@@ -105,6 +113,9 @@ class Owner(object):
         if member.granted is None or report.handled != member.granted:
             return None, None  # a report sent again, or one overtaken
         member.granted = member.silent_since = None
+        if report.next == NO_TICK:
+            member.next = None  # no tick of its own: the next step
+            return None, None
         if report.next <= report.handled:
             member.next = None
             return None, ('%s asked for its next tick at %.9f s, not after the '
@@ -160,7 +171,7 @@ class Owner(object):
         """Forget ``name`` (dead or silent); True if it was a member."""
         return self.members.pop(name, None) is not None
 
-    def command_counts(self):
-        """[(topic, sender, count)] of every member's reported commands."""
+    def sent_counts(self):
+        """[(topic, sender, count)] of every member's reported messages."""
         return [(topic, sender, count)
-                for (topic, sender), count in sorted(self.commands.items())]
+                for (topic, sender), count in sorted(self.sent.items())]

@@ -75,7 +75,7 @@ class TimeOwner(object):
     def _on_report(self, msg):
         name = sender(msg)
         report = Report(name, to_ns(msg.handled), to_ns(msg.next), msg.every_step,
-                        dict(zip(msg.cmd_topics, msg.cmd_counts)), msg.leaving)
+                        dict(zip(msg.topics, msg.counts)), msg.leaving)
         with self.cond:
             change, warning = self.owner.report(report)
             self.seen.add(name)  # its connection is listed: the report came over it
@@ -89,28 +89,36 @@ class TimeOwner(object):
             rospy.logwarn('%s: %s', self.name, warning)
 
     def _grant_message(self, time_ns, names):
-        counts = self.owner.command_counts()
+        counts = self.owner.sent_counts()
         return LockstepGrant(
             session=self.session, time=from_ns(time_ns), members=names,
-            cmd_topics=[c[0] for c in counts], cmd_senders=[c[1] for c in counts],
-            cmd_counts=[c[2] for c in counts])
+            topics=[c[0] for c in counts], senders=[c[1] for c in counts],
+            counts=[c[2] for c in counts])
 
     def _send(self, time_ns, names):
         return publish(self.grant_pub, self._grant_message(time_ns, names))
 
-    def wait_for_members(self, limit):
-        """Wait up to ``limit`` wall seconds for a first member, publishing
+    def wait_for_members(self, limit, count=1):
+        """Wait up to ``limit`` wall seconds for ``count`` members, publishing
         meanwhile the start time on /clock (nodes wait for a first /clock
         before they join, and take it only once they have subscribed) and
         an empty grant (the members of an earlier sim_clock join at once
-        when they see a new session)."""
+        when they see a new session). A graph whose members all join
+        before time moves starts the same on every run (a bag's players,
+        its filters). Fewer after ``limit``: time starts, with a warning."""
         deadline = time.monotonic() + limit
         with self.cond:
-            while not (self.owner.members or rospy.is_shutdown()
+            while not (len(self.owner.members) >= count or rospy.is_shutdown()
                        or time.monotonic() > deadline):
                 self.clock.publish(self.owner.now)
                 self._send(self.owner.now, [])
                 self.cond.wait(0.05)
+            joined = sorted(self.owner.members)
+        if 1 < count and len(joined) < count and not rospy.is_shutdown():
+            rospy.logwarn('%s: %d of the %d lockstep members expected (~members) '
+                          'joined within %.0f s (%s): starting time without the '
+                          'others', self.name, len(joined), count, limit,
+                          ', '.join(joined) or 'none')
 
     def run(self, plan):
         """Own simulated time until shutdown.
