@@ -270,10 +270,12 @@ class PoseEkfNode(object):
                 continue
             action, tick, grant = granted
             now = tick * 1e-9
-            if action == BACK:
-                started = False
             taken = member.take(grant, key=lambda item: (
                 item[1].header.stamp.to_nsec(), item[0]))
+            if action == BACK:  # a new clock: what the old one sent is past
+                started = False
+                taken = [item for item in taken
+                         if item[1].header.stamp.to_nsec() <= tick]
             if taken and not started:
                 # Start-up counts from the first data: the time before it
                 # (a bag's player not granted yet) is not the sensors' silence.
