@@ -50,13 +50,14 @@ PR_SET_CHILD_SUBREAPER = 36
 LIMIT = 600.0
 
 
-def rostest_files(pattern=None):
-    """The .test files `make test` runs through rostest, relative to ROOT."""
+def rostest_files(patterns=None):
+    """The .test files `make test` runs through rostest, relative to ROOT;
+    with patterns, those that match one."""
     files = sorted(glob.glob(os.path.join(ROOT, 'test', 'rostest', '*.test'))
                    + glob.glob(os.path.join(ROOT, 'test', 'faults', '*.test')))
     files = [os.path.relpath(f, ROOT) for f in files]
-    if pattern:
-        files = [f for f in files if matches(f, pattern)]
+    if patterns:
+        files = [f for f in files if any(matches(f, p) for p in patterns)]
     return files
 
 
@@ -141,6 +142,18 @@ def collect_leftovers(grace):
     return len(alive)
 
 
+def stop(proc):
+    """SIGINT to the run's process group (rostest passes it on), then SIGKILL."""
+    try:
+        os.killpg(proc.pid, signal.SIGINT)
+        proc.wait(timeout=30)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+    except ProcessLookupError:  # the group has ended already
+        pass
+    proc.wait()
+
+
 def run_measured(argv, env=None, limit=LIMIT, grace=5.0):
     """Run argv to its end; (returncode or None on timeout, output, wall s,
     CPU s of the tree, leftover processes)."""
@@ -154,13 +167,11 @@ def run_measured(argv, env=None, limit=LIMIT, grace=5.0):
         try:
             code = proc.wait(timeout=limit)
         except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGINT)
-            try:
-                proc.wait(timeout=30)
-            except subprocess.TimeoutExpired:
-                os.killpg(proc.pid, signal.SIGKILL)
-                proc.wait()
+            stop(proc)
             code = None
+        except BaseException:  # Ctrl-C: take the run down with us
+            stop(proc)
+            raise
         log.seek(0)
         out = log.read()
     wall = time.monotonic() - start
@@ -181,9 +192,9 @@ def outcome(code, leftovers):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
-    parser.add_argument('--tests', metavar='PATTERN',
+    parser.add_argument('--tests', metavar='PATTERN', nargs='+',
                         help='only the .test files (and pytest rows) whose path contains '
-                             'PATTERN or matches it as a shell pattern')
+                             'a PATTERN or matches it as a shell pattern')
     parser.add_argument('--no-pytest', action='store_true', help='the rostest files only')
     parser.add_argument('--no-rostest', action='store_true', help='the pytest parts only')
     parser.add_argument('--grace', type=float, default=5.0,
@@ -214,7 +225,7 @@ def main():
                 shutil.rmtree(home, ignore_errors=True)
     if not args.no_pytest:
         for name, paths in pytest_parts():
-            if args.tests and not any(matches(p, args.tests) for p in paths):
+            if args.tests and not any(matches(p, t) for p in paths for t in args.tests):
                 continue
             record(name, *run_measured(
                 [sys.executable, '-m', 'pytest'] + paths + ['-q', '-p', 'no:cacheprovider'],
