@@ -30,7 +30,8 @@ wall; ...``, ``(0.52 s in the same wall time before it)``. A test that
 prints a wall-clock figure writes ``wall`` there, and nothing else does.
 
 The "idle" run is only as idle as the shared machine is: the load average
-is shown with each run. Not a test: run it on demand (source the
+is shown with each run. ``--burners 0`` runs each test twice as it is:
+what differs then is scatter from run to run, whatever the load. Not a test: run it on demand (source the
 workspace first, as `make bench` does), e.g.
 
     python3 bench/determinism.py --tests nav_square.test umbmark.test
@@ -169,8 +170,8 @@ def kill(procs):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     parser.add_argument('--tests', metavar='PATTERN', nargs='+',
-                        help='only the .test files whose path contains a PATTERN or '
-                             'matches it as a shell pattern (e.g. "*umbmark*")')
+                        help='only the .test files a PATTERN names (a path, a file name, '
+                             'a part of the path, or a shell pattern: "faults/*.test")')
     parser.add_argument('--burners', type=int, default=2,
                         help='CPU burners (yes > /dev/null) beside the loaded run')
     parser.add_argument('--out', help='also write the report, as markdown, here')

@@ -57,14 +57,19 @@ def rostest_files(patterns=None):
                    + glob.glob(os.path.join(ROOT, 'test', 'faults', '*.test')))
     files = [os.path.relpath(f, ROOT) for f in files]
     if patterns:
-        files = [f for f in files if any(matches(f, p) for p in patterns)]
+        files = [f for f in files if any(matches(f, p, files) for p in patterns)]
     return files
 
 
-def matches(name, pattern):
-    """A shell pattern (``*umbmark*``), or a plain substring of the name."""
+def matches(name, pattern, names=()):
+    """A shell pattern the path ends with (``faults/*.test``), or a plain
+    substring of the path; a pattern that is one of names (or the file
+    name of one) picks that name alone: ``umbmark.test`` is not
+    physics_umbmark.test."""
     if any(c in pattern for c in '*?['):
-        return fnmatch.fnmatch(name, pattern) or fnmatch.fnmatch(os.path.basename(name), pattern)
+        return fnmatch.fnmatch(name, '*' + pattern)  # the end of the path
+    if any(pattern in (n, os.path.basename(n)) for n in names):
+        return pattern in (name, os.path.basename(name))
     return pattern in name
 
 
@@ -193,8 +198,8 @@ def outcome(code, leftovers):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     parser.add_argument('--tests', metavar='PATTERN', nargs='+',
-                        help='only the .test files (and pytest rows) whose path contains '
-                             'a PATTERN or matches it as a shell pattern')
+                        help='only the .test files (and pytest rows) a PATTERN names (a path, a '
+                             'file name, a part of the path, or a shell pattern: "faults/*.test")')
     parser.add_argument('--no-pytest', action='store_true', help='the rostest files only')
     parser.add_argument('--no-rostest', action='store_true', help='the pytest parts only')
     parser.add_argument('--grace', type=float, default=5.0,
