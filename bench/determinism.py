@@ -206,7 +206,7 @@ def main():
         elif differ or only_idle or only_loaded:
             verdict = 'differs (%d of %d)' % (len(differ), same + len(differ))
         elif same:
-            verdict = 'same (%d figures)' % same
+            verdict = 'same (%d figure%s)' % (same, '' if same == 1 else 's')
         else:
             verdict = 'no figures'
         summary.append((test, verdict, len(wall)))

@@ -209,6 +209,11 @@ def main():
     if not become_subreaper():
         sys.stderr.write('suite_cpu: cannot become a subreaper; orphans CPU is lost\n')
     load_before = os.getloadavg()
+    try:
+        commit = subprocess.run(['git', 'rev-parse', '--short', 'HEAD'], cwd=ROOT,
+                                stdout=subprocess.PIPE, universal_newlines=True).stdout.strip()
+    except OSError:
+        commit = '?'
     started = time.strftime('%Y-%m-%d %H:%M')
     rows = []  # (name, result, wall, cpu, load)
 
@@ -236,11 +241,6 @@ def main():
                 [sys.executable, '-m', 'pytest'] + paths + ['-q', '-p', 'no:cacheprovider'],
                 limit=3600.0, grace=args.grace))
     load_after = os.getloadavg()
-    try:
-        commit = subprocess.run(['git', 'rev-parse', '--short', 'HEAD'], cwd=ROOT,
-                                stdout=subprocess.PIPE, universal_newlines=True).stdout.strip()
-    except OSError:
-        commit = '?'
     rows.sort(key=lambda r: -r[3])
     rostest_cpu = sum(r[3] for r in rows if not r[0].startswith('pytest '))
     pytest_cpu = sum(r[3] for r in rows if r[0].startswith('pytest '))
