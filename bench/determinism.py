@@ -1,0 +1,252 @@
+#!/usr/bin/env python3
+"""Does a rostest's verdict depend on the machine? Each test idle, then loaded.
+
+Runs each test/rostest/*.test and test/faults/*.test file (``--tests``
+picks some) through ``rostest FILE`` twice: once as it is, once beside
+``--burners`` CPU burners (``yes > /dev/null``, started and killed here),
+and compares the figures the test printed. A test whose figures differ
+between the two runs depends on its machine's load: under lockstep a
+course must end in the same pose to the last printed digit however busy
+the machine is.
+
+Figures. rostest keeps each test node's stdout in its result file
+(``$ROS_HOME/test_results/<package>/rosunit-<test-name>.xml``, system-out;
+each run here has a ROS_HOME of its own). Every number in every line a
+test node prints is a figure: its name is the text just before it, with
+the node's test-name and the line's first words (``RESULT Ed``); it is
+compared as printed, so the precision a test prints is the precision
+compared. The lines of the two runs are paired by their text with the
+numbers taken out (and paths, such as a temporary directory, too), in
+order; a line only one run printed is listed as such. Log lines
+(``[INFO] [wall, sim]: ...``) lose their time stamps first.
+
+Wall-clock figures. A figure that measures wall time (a latency in wall
+seconds, a speed ratio) is meant to change with the load and is listed
+apart, not compared. The convention: such a figure's unit, the text right
+after the number up to the next ``,``, ``;``, ``:``, ``=`` or
+``name=``, says
+``wall``: ``gave up 5.02 s (wall time) after``, ``exit=1 after 3.41 s
+wall; ...``, ``(0.52 s in the same wall time before it)``. A test that
+prints a wall-clock figure writes ``wall`` there, and nothing else does.
+
+The "idle" run is only as idle as the shared machine is: the load average
+is shown with each run. ``--burners 0`` runs each test twice as it is:
+what differs then is scatter from run to run, whatever the load. Not a test: run it on demand (source the
+workspace first, as `make bench` does), e.g.
+
+    python3 bench/determinism.py --tests nav_square.test umbmark.test
+    python3 bench/determinism.py            # every file: slow
+
+Prints, per test, "same" or the figures that differ (idle, loaded), and a
+summary table; ``--out FILE`` writes the same as markdown.
+"""
+import argparse
+import glob
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import xml.etree.ElementTree as ET
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from suite_cpu import LIMIT, ROOT, rostest_env, rostest_files, stop  # noqa: E402
+
+NUMBER = re.compile(r'(?<![\w./])[-+]?(?:nan|inf|(?:\d+(?:\.\d+)?|\.\d+)(?:[eE][-+]?\d+)?)'
+                    r'(?!\w|\.\d)')
+PATH = re.compile(r'(?<![\w/])/[^\s,;:)\'"]+')
+LOG_STAMP = re.compile(r'^\[\s*(DEBUG|INFO|WARN|ERROR|FATAL)\s*\]\s*\[[^\]]*\]:\s*')
+UNIT_END = re.compile(r'[,;:=]|\s[\w.]+=')
+WALL = re.compile(r'\bwall\b', re.IGNORECASE)
+
+
+def node_outputs(ros_home):
+    """{test-name: [line, ...]}: each test node's stdout, from its result file."""
+    outputs = {}
+    for path in sorted(glob.glob(os.path.join(ros_home, 'test_results', '*',
+                                              'rosunit-*.xml'))):
+        name = os.path.basename(path)[len('rosunit-'):-len('.xml')]
+        try:
+            text = ET.parse(path).getroot().findtext('system-out') or ''
+        except ET.ParseError:
+            with open(path, errors='replace') as f:
+                found = re.search(r'<system-out>(.*?)</system-out>', f.read(), re.S)
+            text = found.group(1) if found else ''
+        text = text.replace('<![CDATA[', '').replace(']]>', '')
+        outputs[name] = [line.strip() for line in text.splitlines() if line.strip()]
+    return outputs
+
+
+def figures(lines):
+    """[(key, label, value, wall)] of every number in lines.
+
+    key pairs a figure with its twin in another run: (template, its
+    occurrence among lines of that template, index in the line)."""
+    found, seen = [], {}
+    for line in lines:
+        line = LOG_STAMP.sub('', line)
+        template = NUMBER.sub('#', PATH.sub('<path>', line))
+        occurrence = seen.get(template, 0)
+        seen[template] = occurrence + 1
+        head = ' '.join(re.split(r'[:(]', NUMBER.split(line)[0])[0].split()[:3])
+        previous = 0
+        for index, match in enumerate(NUMBER.finditer(line)):
+            words = line[previous:match.start()].strip(' ,;:)%').split()
+            context = ''
+            while words and len(context) + len(words[-1]) < 32:
+                context = (words.pop() + ' ' + context).strip()
+            unit = UNIT_END.split(NUMBER.split(line[match.end():])[0])[0]
+            if index and head and not context.startswith(head):
+                context = head + ' ... ' + context
+            found.append(((template, occurrence, index), '%s # %s' % (
+                context, ' '.join(unit.split()[:3])), match.group(0),
+                bool(WALL.search(unit))))
+            previous = match.end()
+    return found
+
+
+def compare(idle, loaded):
+    """(same, differ, wall, only_idle, only_loaded) of two runs' outputs.
+
+    same: count; differ and wall: [(node, label, idle value, loaded value)];
+    only_*: [(node, line)] printed by one run only."""
+    same, differ, wall, only_idle, only_loaded = 0, [], [], [], []
+    for node in sorted(set(idle) | set(loaded)):
+        a = {key: (label, value, w) for key, label, value, w in figures(idle.get(node, []))}
+        b = {key: (label, value, w) for key, label, value, w in figures(loaded.get(node, []))}
+        for key in sorted(set(a) & set(b), key=lambda k: (k[1], k[0], k[2])):
+            label, value, is_wall = a[key]
+            if is_wall:
+                wall.append((node, label, value, b[key][1]))
+            elif value == b[key][1]:
+                same += 1
+            else:
+                differ.append((node, label, value, b[key][1]))
+        lines_a = {key[:2] for key in a}
+        lines_b = {key[:2] for key in b}
+        only_idle += [(node, t.replace('#', '…')) for t, _ in sorted(lines_a - lines_b)]
+        only_loaded += [(node, t.replace('#', '…')) for t, _ in sorted(lines_b - lines_a)]
+    return same, differ, wall, only_idle, only_loaded
+
+
+def run_rostest(test):
+    """(passed, wall s, {node: lines}, output tail, 1-min load at the end)."""
+    home = tempfile.mkdtemp(prefix='determinism_')
+    start = time.monotonic()
+    try:
+        with tempfile.TemporaryFile(mode='w+') as log:
+            proc = subprocess.Popen(['rostest', test], cwd=ROOT, env=rostest_env(home),
+                                    stdout=log, stderr=subprocess.STDOUT,
+                                    universal_newlines=True, start_new_session=True)
+            try:
+                code = proc.wait(timeout=LIMIT)
+            except subprocess.TimeoutExpired:
+                stop(proc)
+                code = None
+            except BaseException:
+                stop(proc)
+                raise
+            log.seek(0)
+            tail = log.read()[-3000:]
+        return (code == 0, time.monotonic() - start, node_outputs(home), tail,
+                os.getloadavg()[0])
+    finally:
+        shutil.rmtree(home, ignore_errors=True)
+
+
+def start_burners(n):
+    return [subprocess.Popen(['yes'], stdout=subprocess.DEVNULL) for _ in range(n)]
+
+
+def kill(procs):
+    for proc in procs:
+        proc.kill()
+        proc.wait()
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
+    parser.add_argument('--tests', metavar='PATTERN', nargs='+',
+                        help='only the .test files a PATTERN names (a path, a file name, '
+                             'a part of the path, or a shell pattern: "faults/*.test")')
+    parser.add_argument('--burners', type=int, default=2,
+                        help='CPU burners (yes > /dev/null) beside the loaded run')
+    parser.add_argument('--out', help='also write the report, as markdown, here')
+    args = parser.parse_args()
+    tests = rostest_files(args.tests)
+    if not tests:
+        sys.exit('determinism: no .test file matches %r' % args.tests)
+    report, summary = [], []
+
+    def say(line=''):
+        print(line, flush=True)
+        report.append(line)
+
+    say('# Figures idle and beside %d CPU burners' % args.burners)
+    say()
+    say('%s, `python3 bench/determinism.py%s`, %d cores, load average %.2f at the start.'
+        % (time.strftime('%Y-%m-%d %H:%M'), ''.join(' ' + a for a in sys.argv[1:]),
+           os.cpu_count(), os.getloadavg()[0]))
+    for test in tests:
+        idle = run_rostest(test)
+        burners = start_burners(args.burners)
+        try:
+            loaded = run_rostest(test)
+        finally:
+            kill(burners)
+        same, differ, wall, only_idle, only_loaded = compare(idle[2], loaded[2])
+        runs = 'idle %s %.1f s (load %.1f), loaded %s %.1f s (load %.1f)' % (
+            'pass' if idle[0] else 'FAIL', idle[1], idle[4],
+            'pass' if loaded[0] else 'FAIL', loaded[1], loaded[4])
+        if not (idle[0] and loaded[0]):
+            verdict = 'failed'
+        elif differ or only_idle or only_loaded:
+            verdict = 'differs (%d of %d)' % (len(differ), same + len(differ))
+        elif same:
+            verdict = 'same (%d figure%s)' % (same, '' if same == 1 else 's')
+        else:
+            verdict = 'no figures'
+        summary.append((test, verdict, len(wall)))
+        say()
+        say('## %s: %s' % (test, verdict))
+        say()
+        say(runs + '.')
+        for name, result in (('idle', idle), ('loaded', loaded)):
+            if not result[0]:
+                say()
+                say('The %s run failed; the end of its output:' % name)
+                say()
+                say('```')
+                say(result[3].strip())
+                say('```')
+        if differ:
+            say()
+            say('| node | figure | idle | loaded |')
+            say('|---|---|---|---|')
+            for row in differ:
+                say('| %s | %s | %s | %s |' % row)
+        for name, lines in (('idle', only_idle), ('loaded', only_loaded)):
+            for node, line in lines:
+                say()
+                say('Only the %s run printed (%s): `%s`' % (name, node, line))
+        if wall:
+            say()
+            say('Wall-clock figures (not compared): ' + '; '.join(
+                '%s: %s %s, %s' % (node, label, a, b) for node, label, a, b in wall))
+    say()
+    say('## Summary')
+    say()
+    say('| test | verdict | wall-clock figures (not compared) |')
+    say('|---|---|---|')
+    for row in summary:
+        say('| %s | %s | %d |' % row)
+    if args.out:
+        with open(args.out, 'w') as f:
+            f.write('\n'.join(report) + '\n')
+
+
+if __name__ == '__main__':
+    main()
