@@ -20,8 +20,9 @@ from rbx1_nav.common.lockstep_member import (BACK, HANDLE, NO_TICK, REPEAT, STAL
 MS = 1000000  # ns
 
 
-def report(name, handled, next_time, every_step=False, sent=None, leaving=False):
-    return Report(name, handled, next_time, every_step, sent or {}, leaving)
+def report(name, handled, next_time, every_step=False, sent=None, leaving=False,
+           passive=False):
+    return Report(name, handled, next_time, every_step, sent or {}, leaving, passive)
 
 
 # -- Owner ---------------------------------------------------------------
@@ -72,6 +73,17 @@ def test_a_20_hz_course_on_a_50_hz_simulator_costs_only_their_ticks():
     assert len(second) == 60
     assert ticks == list(range(10 * MS, 1010 * MS + 1, 50 * MS))
     assert set(range(10 * MS, 1010 * MS + 1, 20 * MS)) <= set(times)
+
+
+def test_a_filter_follows_time_without_driving_it():
+    """With only simulators and filters taking part, sim_clock at full
+    speed idles: nothing waits for the time a filter spends."""
+    owner = Owner()
+    owner.report(report('/sim', 0, 0, every_step=True))
+    owner.report(report('/ekf', 0, 0, passive=True))
+    assert not owner.drives()
+    owner.report(report('/course', 0, 0))
+    assert owner.drives()
 
 
 def test_batched_a_simulator_is_granted_only_the_courses_ticks():

@@ -35,9 +35,10 @@ HANDLE, REPEAT, BACK, STALE = 'handle', 'repeat', 'back', 'stale'
 #: joins), ``next`` (ns) its next tick, ``every_step`` True for a
 #: simulator, ``sent`` a dict {resolved topic: messages published so far}
 #: of the topics it counts (a motion node's cmd_vel, a simulator's sensors,
-#: a filter's estimate), ``leaving`` True on its last report.
+#: a filter's estimate), ``leaving`` True on its last report, ``passive``
+#: True for a member that follows time without driving it (a filter).
 Report = collections.namedtuple(
-    'Report', 'name handled next every_step sent leaving')
+    'Report', 'name handled next every_step sent leaving passive', defaults=(False,))
 
 
 class Follower(object):

@@ -72,9 +72,11 @@ class Member(object):
     next tick (ns); :meth:`serve` then runs it.
     """
 
-    def __init__(self, every_step=False, inputs=(), step=None, hold=False):
+    def __init__(self, every_step=False, inputs=(), step=None, hold=False,
+                 passive=False):
         self.name = rospy.get_name()
         self.every_step = every_step
+        self.passive = passive
         self.step = step
         self.busy = False       # a step being handled (serve)
         self.heard = None       # wall time of the last grant or step handled
@@ -304,7 +306,8 @@ class Member(object):
             topics = sorted(self.sent_counts)
             self.last = LockstepReport(
                 handled=from_ns(handled_ns), next=from_ns(next_ns),
-                every_step=self.every_step, leaving=leaving, topics=topics,
+                every_step=self.every_step, leaving=leaving, passive=self.passive,
+                topics=topics,
                 counts=[self.sent_counts[t] for t in topics])
             publish(self.pub, self.last)
 

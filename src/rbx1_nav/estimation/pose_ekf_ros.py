@@ -82,7 +82,8 @@ class PoseEkfNode(object):
         self.lock = threading.Lock()
         if lockstep.enabled():
             self.member = lockstep.Member(
-                inputs=[topics[name] for name in TOPICS if used[name]], hold=True)
+                inputs=[topics[name] for name in TOPICS if used[name]], hold=True,
+                passive=True)
             self.pub = self.member.publisher(rospy.resolve_name('~odom_combined'),
                                              PoseWithCovarianceStamped)
             self.tf = (self.member.publisher(rospy.resolve_name('/tf'), TFMessage)

@@ -77,11 +77,12 @@ __all__ = ['Owner']
 
 
 class _Member(object):
-    __slots__ = ('next', 'every_step', 'granted', 'silent_since')
+    __slots__ = ('next', 'every_step', 'passive', 'granted', 'silent_since')
 
-    def __init__(self, every_step):
+    def __init__(self, every_step, passive):
         self.next = None          # next tick asked for; None: the next step
         self.every_step = every_step
+        self.passive = passive
         self.granted = None       # the step it owes a report for
         self.silent_since = None  # when that grant went out (wall s)
 
@@ -108,7 +109,7 @@ class Owner(object):
         if report.leaving:
             return ('left' if self.members.pop(report.name, None) else None), None
         if member is None:
-            self.members[report.name] = _Member(report.every_step)
+            self.members[report.name] = _Member(report.every_step, report.passive)
             return 'joined', None
         if member.granted is None or report.handled != member.granted:
             return None, None  # a report sent again, or one overtaken
@@ -141,8 +142,9 @@ class Owner(object):
         return time, names
 
     def drives(self):
-        """True while a member that is no simulator (a motion node) takes part."""
-        return any(not m.every_step for m in self.members.values())
+        """True while a member that is no simulator and not passive (a
+        motion node, a bag player: not a filter) takes part."""
+        return any(not (m.every_step or m.passive) for m in self.members.values())
 
     def grant(self, time, names, wall):
         """The step ``time`` goes out to ``names`` at wall time ``wall``;

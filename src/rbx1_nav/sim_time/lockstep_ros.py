@@ -75,7 +75,7 @@ class TimeOwner(object):
     def _on_report(self, msg):
         name = sender(msg)
         report = Report(name, to_ns(msg.handled), to_ns(msg.next), msg.every_step,
-                        dict(zip(msg.topics, msg.counts)), msg.leaving)
+                        dict(zip(msg.topics, msg.counts)), msg.leaving, msg.passive)
         with self.cond:
             change, warning = self.owner.report(report)
             self.seen.add(name)  # its connection is listed: the report came over it
