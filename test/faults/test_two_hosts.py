@@ -385,7 +385,7 @@ def test_twenty_percent_loss_precise_courses_ride_it_out(hosts):
     """At 20 % loss, COURSES_AT_LOSS precise courses at once (a fleet, one
     course per robot, every connection over the lossy link). Every course
     completes or gives up with one line; every robot stands still at the
-    end; and a course that completed reports the end pose the robot really
+    end; and a course that completed reports the end pose its robot really
     stands at, by ground truth: no late command moved it after the course
     read its final pose, and a course whose summary says it ended within
     5 mm / 0.5 deg of the ideal end pose did.
@@ -441,7 +441,7 @@ def test_twenty_percent_loss_precise_courses_ride_it_out(hosts):
         start, end = rows[0][1:], rows[-1][1:]
         r['truth'] = off_by(end, one_leg_end(start, GOAL_DISTANCE))
         r['said'] = r['summary'] and reported(r['summary'][1])
-        # Ground-truth changes after the course read its final pose.
+        # Ground-truth changes the recorder printed after the summary line.
         r['late'] = r['summary'] and len([row for row in rows if row[0] > r['summary'][0]])
     good = [r for r in results if r['exit'] == 0 and within(r['truth'])]
     print('RESULT 20 %% loss, %d precise courses at once (~link_grace %g s): %d within '
@@ -458,8 +458,8 @@ def test_twenty_percent_loss_precise_courses_ride_it_out(hosts):
             continue
         text = r['course'].text()
         assert r['said'], text
-        # The end pose the course reports is where its robot stands.
-        assert r['late'] == 0, '%s moved after its summary:\n%s' % (r['robot'], text)
-        assert agrees(r['said'][3:], r['truth']), (r['truth'], text)
-        if within(r['said'][3:]):
-            assert within(r['truth']), (r['truth'], text)
+        # The end pose the course reports is where its robot stands: no late
+        # command moved it after the course's last reading. (So a summary
+        # within 5 mm / 0.5 deg, which rounds to 4.9 mm / 0.49 deg, is
+        # within by ground truth too.)
+        assert agrees(r['said'][3:], r['truth']), (r['robot'], r['truth'], text)
