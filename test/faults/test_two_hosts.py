@@ -462,4 +462,8 @@ def test_twenty_percent_loss_precise_courses_ride_it_out(hosts):
         # command moved it after the course's last reading. (So a summary
         # within 5 mm / 0.5 deg, which rounds to 4.9 mm / 0.49 deg, is
         # within by ground truth too.)
-        assert agrees(r['said'][3:], r['truth']), (r['robot'], r['truth'], text)
+        assert agrees(r['said'][3:], r['truth']), (
+            '%s said %s, ground truth %s; ground truth changed at %s s from the '
+            'summary line:\n%s' % (r['robot'], r['said'][3:], r['truth'], [
+                round(row[0] - r['summary'][0], 2) for row in truth_rows(truth, r['robot'])
+                if row[0] > r['summary'][0] - 1.0], text))
