@@ -2,15 +2,17 @@
 """How many precise courses ride out 20 % packet loss: a distribution.
 
 Runs the fault suite's 20 % loss case (test/faults/test_two_hosts.py::
-test_twenty_percent_loss_precise_courses_ride_it_out: ten precise courses
-at once, a fleet on one network namespace, the courses on another, every
+test_twenty_percent_loss_precise_courses_ride_it_out: precise courses at
+once, a fleet on one network namespace, the courses on another, every
 connection over a link that drops a fifth of its packets) ``--runs`` times
-and reads the figure it prints: how many of the ten ended within 5 mm and
-0.5 deg of the ideal end pose. Loss is random by nature, so that count is
-measured here, as a distribution, and not asserted in ``make test`` (which
-keeps what must hold every run: each course completes or gives up with one
-line, every robot stands still at the end). Needs root (network
-namespaces). Not a test: run it on demand, e.g.
+with ``--courses`` courses (RBX1_LOSS_COURSES; ``make test`` runs fewer)
+and reads the figure it prints: how many ended within 5 mm and 0.5 deg of
+the ideal end pose by ground truth. Loss is random by nature, so that count
+is measured here, as a distribution, and not asserted in ``make test``
+(which keeps what must hold every run: each course completes or gives up
+with one line, every robot stands still at the end, and each completed
+course reports the end pose its robot really stands at). Needs root
+(network namespaces). Not a test: run it on demand, e.g.
 
     python3 bench/loss.py --runs 20
 
@@ -33,13 +35,15 @@ CASE = ('test/faults/test_two_hosts.py::'
 RESULT = re.compile(r'RESULT 20 % loss, (\d+) precise courses .*?: (\d+) within')
 
 
-def one_run(limit):
-    """(courses, within 5 mm / 0.5 deg, passed, wall s) of one run."""
+def one_run(limit, courses):
+    """(courses, within 5 mm / 0.5 deg, passed, wall s, output) of one run
+    of ``courses`` courses."""
     start = time.monotonic()
     proc = subprocess.run(
         [sys.executable, '-m', 'pytest', CASE, '-q', '-s', '-p', 'no:cacheprovider'],
         cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-        universal_newlines=True, timeout=limit)
+        universal_newlines=True, timeout=limit,
+        env=dict(os.environ, RBX1_LOSS_COURSES=str(courses)))
     found = RESULT.search(proc.stdout)
     if found is None:
         return None, None, proc.returncode == 0, time.monotonic() - start, proc.stdout
@@ -50,6 +54,8 @@ def one_run(limit):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     parser.add_argument('--runs', type=int, default=20)
+    parser.add_argument('--courses', type=int, default=10,
+                        help='precise courses at once in each run')
     parser.add_argument('--limit', type=float, default=900.0,
                         help='wall seconds one run may take')
     parser.add_argument('--out', default=os.path.join(HERE, 'results', 'loss.md'))
@@ -58,7 +64,7 @@ def main():
         sys.exit('bench/loss.py needs root: the link is two network namespaces')
     counts, lines = [], []
     for run in range(1, args.runs + 1):
-        courses, good, passed, wall, text = one_run(args.limit)
+        courses, good, passed, wall, text = one_run(args.limit, args.courses)
         if courses is None:
             line = 'run %d: no RESULT line (%s, %.0f s):\n%s' % (
                 run, 'passed' if passed else 'failed', wall, text[-2000:])
@@ -70,13 +76,14 @@ def main():
         lines.append(line)
     histogram = collections.Counter(counts)
     table = ['# Precise courses at 20 % loss', '',
-             '%s, %d runs of `python3 bench/loss.py` (ten courses each).' % (
-                 time.strftime('%Y-%m-%d %H:%M'), args.runs), '',
-             '| within 5 mm / 0.5 deg (of 10) | runs |', '|---|---|']
+             '%s, %d runs of `python3 bench/loss.py` (%d courses each).' % (
+                 time.strftime('%Y-%m-%d %H:%M'), args.runs, args.courses), '',
+             '| within 5 mm / 0.5 deg by ground truth (of %d) | runs |' % args.courses,
+             '|---|---|']
     table += ['| %d | %d |' % (k, histogram[k]) for k in sorted(histogram, reverse=True)]
     if counts:
-        table += ['', 'min %d, median %g, max %d of 10.' % (
-            min(counts), statistics.median(counts), max(counts))]
+        table += ['', 'min %d, median %g, max %d of %d.' % (
+            min(counts), statistics.median(counts), max(counts), args.courses)]
     table += ['', '```'] + lines + ['```']
     os.makedirs(os.path.dirname(args.out), exist_ok=True)
     with open(args.out, 'w') as f:
