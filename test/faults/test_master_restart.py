@@ -1,4 +1,6 @@
-"""The ROS master restarts under a running pose_ekf and odom_ekf.
+"""The ROS master restarts under a running pose_ekf and odom_ekf; it dies,
+or stops answering, under a running course. All on one host, without root
+(test_two_hosts.py puts the master across a link it cuts, with root).
 
 rospy registers a node's topics with the master once; a restarted roscore
 knows none of them, though the connections already made go on. pose_ekf
@@ -9,7 +11,13 @@ The test kills roscore, starts a new one on the same port, and checks
 that both nodes say so, that new subscribers (what RViz would be) get
 their topics, and that a subscriber from before the restart was never
 held up. It prints the seconds it measured.
+
+A course goes on over its connections when the master dies, and says so
+once; when it loses its robot while the master does not answer (a silent
+listener in the master's place: every call to it hangs, as over a cut
+link) it still stops and exits 1 within ~tf_timeout + ~link_grace + 2 s.
 """
+import math
 import os
 import shutil
 import socket
@@ -24,13 +32,28 @@ import rosgraph
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import link  # noqa: E402
-from test_two_hosts import Lines  # noqa: E402
+from test_two_hosts import (LINK_GRACE, SHORT_COURSE, TF_TIMEOUT,  # noqa: E402
+                            Lines, position)
+
+master_ros = pytest.importorskip('rbx1_nav.common.master_ros',
+                                 reason='source a ROS workspace')
 
 
 PORTS = range(11450, 11471)
-DETECT_LIMIT = 5.0  # s from the new master answering to the nodes' warning
-SUBSCRIBE_LIMIT = 10.0  # s for a new subscriber to get a message
-GAP_LIMIT = 1.5  # s, longest pause of a running subscriber's stream
+# Wall-time limits, from rbx1_nav.common.master_ros's parameters:
+# DETECT_LIMIT, s from the new master answering to the nodes' warning: the
+# nodes poll the master every PERIOD (1 s), and a poll begun while the new
+# master was starting waits up to TIMEOUT (2 s); 2 s more for the line to
+# reach this test through a pipe on a loaded machine.
+DETECT_LIMIT = master_ros.PERIOD + master_ros.TIMEOUT + 2.0
+# SUBSCRIBE_LIMIT, s for a new subscriber to get a message: a liveness
+# guard, not a latency: most of it is a new rostopic process starting.
+SUBSCRIBE_LIMIT = 10.0
+# GAP_LIMIT, s, longest pause of a running subscriber's stream: under one
+# master call's TIMEOUT, so a publisher held up by a call to the master
+# fails, and well above the stream's period.
+GAP_LIMIT = 1.5
+assert GAP_LIMIT < master_ros.TIMEOUT
 RESTARTED = 'ROS master at .* restarted'
 POSE = '/robot_pose_ekf/odom_combined'
 
@@ -212,4 +235,80 @@ def test_master_watch_reports_gone_back_and_restarted_and_never_waits_long():
           '(timeout 0.3 s)' % slowest)
     assert events == [None, None, None, 'gone', 'back', 'restarted', None]
     assert calls == [('gone', 'timed out'), ('back',), ('restarted',)]
-    assert slowest < 2.0  # the socket timeout, not the 10 s above
+    # A poll costs its socket timeout (0.3 s) and a connection's set-up;
+    # one that waited without a timeout would cost the timer's 10 s.
+    assert slowest < 2.0
+
+
+def start_course(graph):
+    """The fake robot (real time), its ground truth, and a short course
+    under way; returns (robot, truth lines, course lines)."""
+    robot = graph.start(['rosrun', 'rbx1_nav', 'fake_turtlebot.py'])
+    truth = graph.start(['rostopic', 'echo', '-p', '/ground_truth/pose/pose'])
+    deadline = time.monotonic() + 30
+    while position(truth) is None:
+        assert time.monotonic() < deadline, 'no ground_truth:\n' + truth.text()
+        time.sleep(0.05)
+    course = graph.start(['rosrun', 'rbx1_nav', 'odom_out_and_back.py'] + SHORT_COURSE)
+    deadline = time.monotonic() + 30
+    while math.hypot(*position(truth)) < 0.15:
+        assert time.monotonic() < deadline, 'the robot never moved:\n' + course.text()
+        time.sleep(0.02)
+    return robot, truth, course
+
+
+@pytest.mark.xdist_group('two_hosts')
+@pytest.mark.skipif(shutil.which('roscore') is None,
+                    reason='no roscore: source a ROS workspace')
+def test_master_killed_mid_course_the_course_finishes_and_says_so(graph):
+    core, _ = graph.start_master()
+    _, _, course = start_course(graph)
+    link.kill_tree(core.proc.pid)  # roscore, its master and rosout
+    core.proc.wait()
+    try:
+        status = course.proc.wait(60.0)
+    except subprocess.TimeoutExpired:
+        pytest.fail('course still running 60 s after the master died:\n' + course.text())
+    warned = [line for _, line in course.lines if 'master' in line and 'unreachable' in line]
+    print('RESULT master killed (one host): exit %d; master warnings: %s' % (status, warned))
+    assert course.first('Course complete'), course.text()
+    assert status == 0, course.text()
+    assert len(warned) == 1 and 'localhost:%d' % graph.port in warned[0], course.text()
+
+
+@pytest.mark.xdist_group('two_hosts')
+@pytest.mark.skipif(shutil.which('roscore') is None,
+                    reason='no roscore: source a ROS workspace')
+def test_robot_lost_with_a_silent_master_the_course_stops_and_exits_in_time(graph):
+    core, _ = graph.start_master()
+    robot, _, course = start_course(graph)
+    link.kill_tree(core.proc.pid)
+    core.proc.wait()
+    # A master that takes connections and never answers: every call hangs.
+    silent = socket.socket()
+    silent.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    silent.bind(('', graph.port))
+    silent.listen(64)
+    try:
+        link.kill_tree(robot.proc.pid)
+        robot.proc.wait()
+        lost = time.monotonic()
+        # The README's bound: the ROS-time deadlines (wall time here, no
+        # /use_sim_time), then 2 s for the stop, the error line, rospy's
+        # shutdown (abandoned after SHUTDOWN_LIMIT, 1 s) and the exit.
+        limit = TF_TIMEOUT + LINK_GRACE + 2.0
+        try:
+            status = course.proc.wait(limit + 10.0)
+        except subprocess.TimeoutExpired:
+            pytest.fail('course still running %.1f s after the robot was lost:\n%s'
+                        % (time.monotonic() - lost, course.text()))
+        took = time.monotonic() - lost
+    finally:
+        silent.close()
+    errors = [line for _, line in course.lines if 'ERROR' in line]
+    print('RESULT robot lost, master silent (one host): exit %d after %.2f s '
+          '(limit %.1f s); error lines: %s' % (status, took, limit, errors))
+    assert status == 1, course.text()
+    assert took < limit, course.text()
+    assert len(errors) == 1 and 'has not been updated' in errors[0], course.text()
+    assert course.first('does not answer'), course.text()  # gave up unregistering

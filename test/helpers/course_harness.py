@@ -306,6 +306,50 @@ def wait_under_way(test, watch, start, course, also=lambda: True, distance=0.3):
     test.assertTrue(course.running(), course.output)
 
 
+#: rostest's log file. Its children inherit the variable, and rospy.init_node
+#: points it at the node's own log file: read it at import, before that.
+ROSTEST_LOG = os.environ.get('ROS_LOG_FILENAME')
+
+
+def launched_node_status(process, wall_limit=10.0):
+    """Exit status and log of a node the .test file launched (rostest only).
+
+    ``process`` is roslaunch's name for it without the trailing count
+    (``raw/odom_out_and_back`` for a node of that name in group raw).
+    rostest logs to its file (:data:`ROSTEST_LOG`) where it started the
+    node, with the node's own log file (``__log:=``), and how the node
+    ended, once its process monitor saw it end. Waits up to ``wall_limit`` wall seconds for that line; returns
+    (exit status, None if it is still running, or 'died without exit
+    code'; the text of the node's log file). A log file, not /rosout:
+    rospy can drop a node's last /rosout lines when it exits right after
+    them.
+    """
+    name = re.escape(process) + r'-\d+'
+    started = re.compile(r"process\[(%s)\]: start w/ args .*'__log:=([^']+)'" % name)
+    ended = re.compile(r'\[(%s)\] process has (finished cleanly|died)'
+                       r'(?: \[pid \d+, exit code (-?\d+))?' % name)
+    found = {}
+
+    def read():
+        with open(ROSTEST_LOG) as f:
+            text = f.read()
+        found['start'] = started.search(text)
+        found['end'] = ended.search(text)
+        return found['end']
+
+    wait_until(read, wall_limit)
+    if found['start'] is None:
+        raise AssertionError('no process %s in %s' % (process, ROSTEST_LOG))
+    with open(found['start'].group(2)) as f:
+        log = f.read()
+    end = found['end']
+    if end is None:
+        return None, log
+    if end.group(2) == 'finished cleanly':
+        return 0, log
+    return (int(end.group(3)) if end.group(3) else 'died without exit code'), log
+
+
 def check_completed_course(test, watch, course, start, expected_end=None):
     """Assert the course exited 0 and left the robot stopped near its goal.
 

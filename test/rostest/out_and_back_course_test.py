@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
 """One course on the fake robot, judged on its true end pose.
 
-Shared by the course tests: out_and_back_ideal.test (book defaults),
-out_and_back_precise.test (~precise), out_and_back_base_link.test (a robot
-with no base_footprint), timed_out_and_back*.test and nav_square*.test.
+Shared by the course tests: out_and_back_precise.test (~precise),
+out_and_back_base_link.test (a robot with no base_footprint),
+timed_out_and_back*.test and nav_square*.test. (The odometry course in the
+book's mode on the ideal robot is checked by lockstep_course_test.py, in
+lockstep_1x.test and lockstep_max_loaded.test.)
 ~node names the course node (odom_out_and_back.py by default); every one of
 these courses ends where it began. Passes if the node exits 0 and the
 simulator's ground_truth ends within ~position_tolerance (m) and
