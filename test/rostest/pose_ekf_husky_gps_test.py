@@ -145,11 +145,11 @@ class HuskyGpsTest(unittest.TestCase):
         x, y, yaw, qz, qw = self.main.poses[end]
         report = ('last estimate before %.1f: stamp %.3f, (%.3f, %.3f) m, '
                   'yaw %.2f deg; robot_pose_ekf expects (%.3f, %.3f), yaw '
-                  '%.2f deg; %d estimates' % (
+                  '%.2f deg; %d estimates before it' % (
                       TIME_END, end, x, y, math.degrees(yaw), EXPECTED[0],
                       EXPECTED[1], math.degrees(2.0 * math.atan2(
                           EXPECTED_QZ_QW[0], EXPECTED_QZ_QW[1])),
-                      len(stamps)))
+                      len(before)))
         print(report, flush=True)
         duration = end - stamps[0]
         self.assertTrue(0.8 * EKF_DURATION < duration < 1.3 * EKF_DURATION,
