@@ -28,7 +28,7 @@ from tf2_msgs.msg import TFMessage
 
 from rbx1_nav.common import lockstep_member_ros as lockstep
 from rbx1_nav.common.lockstep_member import BACK, NO_TICK
-from rbx1_nav.common.master_ros import MasterWatch, reregister_node
+from rbx1_nav.common.master_ros import MasterWatch, reregister_node, topic_graph
 from rbx1_nav.common.node_ros import start_node, until_shutdown
 from rbx1_nav.common.ros_time import time_moved_back_text
 from rbx1_nav.estimation.ekf import is_finite_estimate
@@ -289,21 +289,25 @@ class PoseEkfNode(object):
                           else (tick // period + 1) * period)
 
     def wait_for_inputs(self):
-        """Wait up to INPUT_WAIT wall s until each input has a publisher
-        connected (a message sent before never arrives, so is not awaited:
-        rbx1_nav.common.lockstep_member.MessageLedger.settle)."""
+        """Wait up to INPUT_WAIT wall s until each input that a node
+        publishes (by the master) is connected to it: a message sent before
+        never arrives, so is not awaited
+        (rbx1_nav.common.lockstep_member.MessageLedger.settle). An input
+        nobody publishes is not waited for (its silence is warned of)."""
         deadline = time.monotonic() + INPUT_WAIT
         while not rospy.is_shutdown():
-            silent = [topic for name, topic in sorted(self.topics.items())
-                      if not self.subs[name].get_num_connections()]
-            if not silent:
+            graph = topic_graph()
+            publishers = graph[0] if graph else {}
+            waiting = [topic for name, topic in sorted(self.topics.items())
+                       if publishers.get(topic) and not self.subs[name].get_num_connections()]
+            if not waiting:
                 return
             if time.monotonic() > deadline:
-                rospy.logwarn('pose_ekf: nothing publishes %s yet; joining the '
-                              'lockstep without it', ', '.join(silent))
+                rospy.logwarn('pose_ekf: not connected to the publishers of %s '
+                              'after %.0f s; joining the lockstep without them',
+                              ', '.join(waiting), INPUT_WAIT)
                 return
-            rospy.rostime.wallsleep(0.05)
-
+            rospy.rostime.wallsleep(0.1)
 
 def main(specs, doc):
     """main() of pose_ekf.py: start the node (as robot_pose_ekf) with its
