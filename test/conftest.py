@@ -11,6 +11,11 @@ import os
 
 import pytest
 
+# One BLAS thread in the tests and every process they start, as the nodes
+# have (rbx1_nav/__init__.py): a test importing numpy first must not start
+# the spinning threads either.
+import rbx1_nav  # noqa: F401,E402  (sets OPENBLAS_NUM_THREADS and the like)
+
 NORMAL_PRIORITY = {'free_running', 'two_hosts'}
 LOW_PRIORITY = 5
 

@@ -7,3 +7,11 @@ master; the ``*_ros.py`` module beside it wires that logic to ROS; a
 script under ``nodes/`` declares its parameters and calls one entry point.
 ``rbx1_nav.transform_utils`` stays here, where the book's scripts import it.
 """
+import os
+
+# The filters' and simulators' matrices are 3x3 to 5x5: a multi-threaded
+# BLAS only adds threads that spin between calls (on 2 cores pose_ekf's
+# used four times the CPU of its filter). Before numpy is imported by any
+# module here; a value set in the environment wins.
+for _name in ('OPENBLAS_NUM_THREADS', 'OMP_NUM_THREADS', 'MKL_NUM_THREADS'):
+    os.environ.setdefault(_name, '1')
