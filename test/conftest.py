@@ -7,14 +7,15 @@ LOW_PRIORITY. Those others are unit tests, or graphs under lockstep that
 end the same however slowly they run, so they take whatever CPU the
 clock-bound tests leave and cannot make them fall behind.
 """
+import importlib
 import os
 
 import pytest
 
 # One BLAS thread in the tests and every process they start, as the nodes
-# have (rbx1_nav/__init__.py): a test importing numpy first must not start
-# the spinning threads either.
-import rbx1_nav  # noqa: F401,E402  (sets OPENBLAS_NUM_THREADS and the like)
+# have: importing rbx1_nav sets OPENBLAS_NUM_THREADS and the like, and a
+# test importing numpy first must not start the spinning threads either.
+importlib.import_module('rbx1_nav')
 
 NORMAL_PRIORITY = {'free_running', 'two_hosts'}
 LOW_PRIORITY = 5
