@@ -101,8 +101,12 @@ class PoseEkfNode(object):
         self.subs, self.topics = {}, {}
         for name, (topic, msg_type) in TOPICS.items():
             if used[name]:
+                # Under lockstep each tick waits for its inputs: no Nagle
+                # delay (40 ms with the receiver's delayed ack); rospy's
+                # publisher takes the subscriber's choice.
                 sub = rospy.Subscriber(topic, msg_type, self.on_sensor, name,
-                                       queue_size=None if self.member else 50)
+                                       queue_size=None if self.member else 50,
+                                       tcp_nodelay=self.member is not None)
                 self.subs[name], self.topics[name] = sub, sub.resolved_name
         rospy.loginfo('pose_ekf: ' + listening_text(
             self.topics, self.pub.resolved_name, self.output_frame,
