@@ -20,7 +20,7 @@ def run(settle, pose_at, lag=0.0, limit=20.0):
     while now < settle.ended + limit:
         now += DT
         stamp = now - lag
-        state = settle.update(pose_at(stamp), stamp, now)
+        state = settle.update(pose_at(stamp), stamp)
         if state != WAITING:
             return state, now
     raise AssertionError('still waiting after %g s' % limit)
@@ -84,10 +84,21 @@ def test_a_robot_that_keeps_moving_gives_up_at_the_timeout():
     assert now == pytest.approx(5.0)
 
 
+def test_the_timeout_counts_odometry_stamps_not_the_clock():
+    """Poses read 1 s late (a slow link): it gives up on odometry stamped
+    2 s after the end, 3 s of the clock; a stale transform is the runner's
+    dropout hold to judge."""
+    settle = Settle(END, 3.0, 0.6, 2.0)
+    state, now = run(settle, lambda t: Pose2D(END.x + 0.01 * t, END.y, END.yaw),
+                     lag=1.0)
+    assert state == GAVE_UP
+    assert now == pytest.approx(6.0)
+
+
 def test_moved_wraps_the_yaw_and_words_only_what_counts():
     end = Pose2D(0.0, 0.0, math.pi - 0.001)
     settle = Settle(end, 0.0, 0.6, 5.0)
-    settle.update(Pose2D(0.0003, 0.0004, -math.pi + 0.001), 0.1, 0.1)
+    settle.update(Pose2D(0.0003, 0.0004, -math.pi + 0.001), 0.1)
     moved = settle.moved()
     assert moved.distance == pytest.approx(0.0005)
     assert moved.yaw == pytest.approx(0.002)
@@ -95,7 +106,7 @@ def test_moved_wraps_the_yaw_and_words_only_what_counts():
                                  'course ended (a late command?)')
     # Within 0.1 mm and 0.01 deg: nothing to say.
     small = Settle(END, 0.0, 0.6, 5.0)
-    small.update(Pose2D(END.x + 0.00009, END.y, END.yaw - math.radians(0.009)), 0.1, 0.1)
+    small.update(Pose2D(END.x + 0.00009, END.y, END.yaw - math.radians(0.009)), 0.1)
     assert moved_text(small.moved()) is None
 
 

@@ -8,8 +8,11 @@ keeps commanding zero after the last step and feeds each pose odometry
 gives to a :class:`Settle` until the robot has stood still for
 ``settle_time`` s of odometry's stamps (longer than the robot's
 watchdog, so a late command shows as motion within it) after the
-course ended; that pose is the one the summary reports. Past
-``timeout`` s from the end it gives up: the robot did not settle.
+course ended; that pose is the one the summary reports. When odometry
+stamped ``timeout`` s after the end has not stood still that long, it
+gives up: the robot did not settle. Both count odometry's stamps, not the
+clock: while the transform is stale (a link dropout) nothing can be
+judged, and the runner's dropout hold (~link_grace) bounds that wait.
 
 :meth:`Settle.moved` says how far the robot moved after the course's own
 end; :func:`moved_text` words it when that is more than REPORT_M /
@@ -42,8 +45,8 @@ SETTLE_PARAMS = (
           "long (longer than the robot's cmd_vel watchdog: a late command "
           "shows) and report that pose", **params.POSITIVE),
     param('settle_timeout', 5.0, params.number, 's',
-          'give up waiting for a still robot this long after the last step '
-          '(and say so)', **params.POSITIVE),
+          'give up waiting for a still robot (and say so) when odometry '
+          'this long after the last step has not stood still', **params.POSITIVE),
 )
 
 Moved = namedtuple('Moved', 'distance yaw')
@@ -55,10 +58,10 @@ class Settle(object):
     """Wait for a still robot after a course that ended at pose ``end``
     (Pose2D) at time ``ended`` (s, the clock of the poses' stamps).
 
-    Call :meth:`update` with each new pose and its stamp, and the time
-    now; it returns WAITING, STILL (the pose fed last is the settled
-    one) or GAVE_UP (``timeout`` s past ``ended`` without ``settle_time``
-    s of stillness after it).
+    Call :meth:`update` with each new pose and its stamp; it returns
+    WAITING, STILL (the pose fed last is the settled one) or GAVE_UP (a
+    pose stamped ``timeout`` s past ``ended`` without ``settle_time`` s of
+    stillness after the end).
     """
 
     def __init__(self, end, ended, settle_time, timeout):
@@ -74,23 +77,19 @@ class Settle(object):
         self._since = float(ended)  # its stamp, not before the end
         self.state = WAITING
 
-    def update(self, pose, stamp, now):
-        """The state after a pose read with ``stamp`` (s) at ``now`` (s)."""
+    def update(self, pose, stamp):
+        """The state after a new pose stamped ``stamp`` (s)."""
         self.pose = pose
         if not _same(pose, self._anchor):
             self._anchor = pose
             self._since = max(float(stamp), self.ended)
         if stamp - self._since >= self.settle_time - 1e-9:
             self.state = STILL
-        elif now - self.ended >= self.timeout - 1e-9:
+        elif stamp - self.ended >= self.timeout - 1e-9:
             self.state = GAVE_UP
         else:
             self.state = WAITING
         return self.state
-
-    def waited(self, now):
-        """Seconds since the course's end at ``now``."""
-        return now - self.ended
 
     def moved(self):
         """How far the pose fed last is from the course's end pose."""
