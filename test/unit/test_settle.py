@@ -4,7 +4,7 @@ import math
 import pytest
 
 from rbx1_nav.motion.settle import (ANGULAR_EPS, GAVE_UP, LINEAR_EPS, STILL,
-                                    WAITING, Settle, moved_text)
+                                    WAITING, Settle, delivered, moved_text)
 from rbx1_nav.transform_utils import Pose2D
 
 DT = 0.05  # s, the control period of the ticks below
@@ -12,15 +12,17 @@ END = Pose2D(1.0, 2.0, 0.5)
 WATCHDOG = 0.5  # s, the fake robot's cmd_timeout
 
 
-def run(settle, pose_at, lag=0.0, limit=20.0):
+def run(settle, pose_at, lag=0.0, limit=20.0, sent_at=0.0):
     """Feed ``settle`` one pose a tick from its end on: ``pose_at(stamp)``
-    read ``lag`` s late. Returns (state, time now) at the first tick that
-    is not WAITING."""
+    read ``lag`` s late, every command sent before the end delivered from
+    ``sent_at`` s after it. Returns (state, time now) at the first tick
+    that is not WAITING."""
     now = settle.ended
     while now < settle.ended + limit:
         now += DT
         stamp = now - lag
-        state = settle.update(pose_at(stamp), stamp)
+        state = settle.update(pose_at(stamp), stamp,
+                              now >= settle.ended + sent_at - 1e-9)
         if state != WAITING:
             return state, now
     raise AssertionError('still waiting after %g s' % limit)
@@ -34,6 +36,7 @@ def test_a_still_robot_settles_after_settle_time_and_did_not_move():
     assert settle.pose == END
     assert settle.moved() == (0.0, 0.0)
     assert moved_text(settle.moved()) is None
+    assert settle.undelivered is None
 
 
 def test_a_late_command_shows_and_the_settled_pose_is_where_it_stopped():
@@ -51,6 +54,33 @@ def test_a_late_command_shows_and_the_settled_pose_is_where_it_stopped():
     assert moved.distance == 0.0 and moved.yaw == pytest.approx(0.01)
     text = moved_text(moved)
     assert '0.0 mm / +0.57 deg after the course ended (a late command?)' in text
+
+
+def test_a_command_held_back_by_the_link_is_waited_for():
+    """TCP holds a creep command (and the stops after it) for 3 s behind a
+    lost packet: the still spell begins once the robot's host has them all,
+    and the creep it ran meanwhile (until the stop behind it) shows."""
+    def pose_at(t):
+        return Pose2D(END.x, END.y, END.yaw + (0.003 if t >= 13.0 else 0.0))
+    settle = Settle(END, 10.0, 0.6, 5.0)
+    state, now = run(settle, pose_at, sent_at=3.0)
+    assert state == STILL
+    assert now == pytest.approx(13.6)
+    assert settle.moved().yaw == pytest.approx(0.003)
+    assert settle.undelivered == pytest.approx(12.95)
+    # Never delivered within the timeout: it gives up, and says why.
+    stuck = Settle(END, 10.0, 0.6, 5.0)
+    state, now = run(stuck, lambda t: END, sent_at=99.0)
+    assert state == GAVE_UP and not stuck.sent
+    assert now == pytest.approx(15.0)
+
+
+def test_delivered_when_only_the_commands_after_the_end_are_unacknowledged():
+    assert delivered(0, 0, 52)
+    assert delivered(104, 2, 52)
+    assert not delivered(105, 2, 52)
+    assert not delivered(52, 0, 52)
+    assert delivered(None, 0, 52)  # cannot tell: not held up
 
 
 def test_stillness_counts_odometry_stamps_after_the_end_only():

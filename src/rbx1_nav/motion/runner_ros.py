@@ -42,7 +42,7 @@ from rbx1_nav.motion.aborted import CourseAborted
 from rbx1_nav.motion.cmd_vel_ros import CmdVel
 from rbx1_nav.motion.precise import Breakaway
 from rbx1_nav.motion.settle import (GAVE_UP, SETTLE_PARAMS, WAITING, Settle,
-                                    moved_text)
+                                    delivered, moved_text)
 from rbx1_nav.motion.summary import stalls_text, summary_line
 from rbx1_nav.motion.tf_follow_ros import TF_TOPIC, TfFollower
 from rbx1_nav.motion.ticks_ros import Ticks
@@ -206,6 +206,7 @@ class MotionRunner(object):
         pose = Pose2D(0.0, 0.0, 0.0) if blind else None
         last_stamp = fresh_at = None
         settle = None  # once the course is done: its rbx1_nav.motion.settle.Settle
+        stops, message_bytes = 0, self.cmd_vel.message_bytes()  # sent after it
         self.tick_times = []
         for now in self.ticks.ticks(self._joined):
             self.tick_times.append(now.to_sec())
@@ -220,10 +221,12 @@ class MotionRunner(object):
                 fresh_at = now
             if settle is not None:  # after the last step: stop, and watch
                 self.stop()
+                stops += 1
                 # A stale transform is held as in the course (CourseAborted
                 # past ~link_grace); the wait counts odometry's stamps.
+                sent = delivered(self.cmd_vel.unacknowledged(), stops, message_bytes)
                 if (not self.dropouts.held(now, fresh_at) and fresh
-                        and settle.update(pose, last_stamp.to_sec()) != WAITING):
+                        and settle.update(pose, last_stamp.to_sec(), sent) != WAITING):
                     break
                 continue
             if not blind and self.dropouts.held(now, fresh_at):
@@ -260,13 +263,17 @@ class MotionRunner(object):
         waited = self.tick_times[-1] - settle.ended
         if settle.state == GAVE_UP:
             rospy.logwarn('%s%s: the robot did not settle: odometry still '
-                          'still changing %.1f s after the course ended '
+                          '%s %.1f s after the course ended '
                           '(~settle_timeout); the final pose below is the '
                           'last read, not a still one', self.robot, self.name,
+                          'odometry still changing' if settle.sent else
+                          'commands sent before the end not yet delivered',
                           waited)
-        else:
-            rospy.logdebug('%s%s: robot still %.2f s after the course ended',
-                           self.robot, self.name, waited)
+        elif settle.undelivered is not None:
+            rospy.loginfo('%s%s: commands sent before the course ended were '
+                          'still on their way %.2f s after it (a slow link); '
+                          'robot still %.2f s after the end', self.robot,
+                          self.name, settle.undelivered - settle.ended, waited)
         moved = settle.moved()
         course.yaw_total += moved.yaw
         text = moved_text(moved)

@@ -8,7 +8,10 @@ keeps commanding zero after the last step and feeds each pose odometry
 gives to a :class:`Settle` until the robot has stood still for
 ``settle_time`` s of odometry's stamps (longer than the robot's
 watchdog, so a late command shows as motion within it) after the
-course ended; that pose is the one the summary reports. When odometry
+course ended, and after the robot's host has acknowledged every command
+sent before the end (:func:`delivered`: a command stuck behind lost
+packets can be held back by TCP for seconds); that pose is the one the
+summary reports. When odometry
 stamped ``timeout`` s after the end has not stood still that long, it
 gives up: the robot did not settle. Both count odometry's stamps, not the
 clock: while the transform is stale (a link dropout) nothing can be
@@ -25,7 +28,7 @@ from rbx1_nav.common import params
 from rbx1_nav.common.params import param
 from rbx1_nav.transform_utils import normalize_angle
 
-__all__ = ['GAVE_UP', 'LINEAR_EPS', 'ANGULAR_EPS', 'REPORT_M', 'REPORT_RAD',
+__all__ = ['GAVE_UP', 'delivered', 'LINEAR_EPS', 'ANGULAR_EPS', 'REPORT_M', 'REPORT_RAD',
            'SETTLE_PARAMS', 'STILL', 'Settle', 'WAITING', 'moved_text']
 
 WAITING, STILL, GAVE_UP = 'waiting', 'still', 'gave up'
@@ -76,11 +79,18 @@ class Settle(object):
         self._anchor = end  # where the current still spell began
         self._since = float(ended)  # its stamp, not before the end
         self.state = WAITING
+        self.sent = True  # as update() was told last
+        self.undelivered = None  # the stamp (s) commands were on their way last
 
-    def update(self, pose, stamp):
-        """The state after a new pose stamped ``stamp`` (s)."""
+    def update(self, pose, stamp, sent=True):
+        """The state after a new pose stamped ``stamp`` (s); ``sent`` is
+        False while commands sent before the end may still be on their way
+        (:func:`delivered`): a still spell begins only once they are not."""
         self.pose = pose
-        if not _same(pose, self._anchor):
+        self.sent = sent
+        if not sent:
+            self.undelivered = float(stamp)
+        if not sent or not _same(pose, self._anchor):
             self._anchor = pose
             self._since = max(float(stamp), self.ended)
         if stamp - self._since >= self.settle_time - 1e-9:
@@ -95,6 +105,15 @@ class Settle(object):
         """How far the pose fed last is from the course's end pose."""
         return Moved(math.hypot(self.pose.x - self.end.x, self.pose.y - self.end.y),
                      normalize_angle(self.pose.yaw - self.end.yaw))
+
+
+def delivered(unacknowledged, sent_since, message_bytes):
+    """True when every command sent before the end has reached the robot's
+    host: no more bytes are unacknowledged (``unacknowledged``, None when
+    unknown: True) than the ``sent_since`` commands of ``message_bytes``
+    each sent after the end take."""
+    return (unacknowledged is None
+            or unacknowledged <= sent_since * message_bytes)
 
 
 def _same(a, b):
