@@ -407,7 +407,10 @@ def test_twenty_percent_loss_precise_courses_ride_it_out(hosts):
             'rosrun', 'rbx1_nav', 'odom_out_and_back.py', '__ns:=' + robot,
             '/tf:=tf', '/tf_static:=tf_static', '_odom_frame:=%s/odom' % robot,
             '_base_frame:=%s/base_footprint' % robot, '_tf_wait:=60']
-            + SHORT_COURSE + PRECISE + ['_legs:=1', '_link_grace:=%g' % LOSS_GRACE],
+            + SHORT_COURSE + PRECISE + ['_legs:=1', '_link_grace:=%g' % LOSS_GRACE,
+                                        # TCP may hold the last commands back
+                                        # as long as the transform
+                                        '_settle_timeout:=%g' % LOSS_GRACE],
             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True)
         courses.append((robot, proc, Lines(proc)))
     for _, _, course in courses:
@@ -443,15 +446,27 @@ def test_twenty_percent_loss_precise_courses_ride_it_out(hosts):
         r['said'] = r['summary'] and reported(r['summary'][1])
         # Ground-truth changes the recorder printed after the summary line.
         r['late'] = r['summary'] and len([row for row in rows if row[0] > r['summary'][0]])
+        # What the course saw move after its last step, while it waited for
+        # a still robot (rbx1_nav.motion.settle), and whether it settled.
+        r['after'] = [re.search(r'moved ([^(]*) after the course ended', line).group(1)
+                      for _, line in r['course'].lines if 'after the course ended' in line]
+        r['unsettled'] = any('did not settle' in line for _, line in r['course'].lines)
+        r['on_way'] = [re.search(r'on their way ([0-9.]+ s)', line).group(1)
+                       for _, line in r['course'].lines if 'on their way' in line]
     good = [r for r in results if r['exit'] == 0 and within(r['truth'])]
     print('RESULT 20 %% loss, %d precise courses at once (~link_grace %g s): %d within '
           '5 mm / 0.5 deg by ground truth; %s' % (
               COURSES_AT_LOSS, LOSS_GRACE, len(good), '; '.join(
                   '%s exit %d, true end %.2f mm %+.3f deg (said %s, ground truth '
-                  'changed %s times after), dropouts held %d (%s), longest motion '
-                  'while held %s s' % (r['robot'], r['exit'], r['truth'][0], r['truth'][1],
-                                      r['said'] and r['said'][3:], r['late'], r['held'],
-                                      r['rides'], r['spell']) for r in results)))
+                  'changed %s times after; moved after its last step: %s%s%s), '
+                  'dropouts held %d (%s), longest motion while held %s s' % (
+                      r['robot'], r['exit'], r['truth'][0], r['truth'][1],
+                      r['said'] and r['said'][3:], r['late'],
+                      ', '.join(r['after']) or 'no',
+                      ', did not settle' if r['unsettled'] else '',
+                      ''.join(', commands on their way %s after the end' % t
+                              for t in r['on_way']), r['held'],
+                      r['rides'], r['spell']) for r in results)))
     assert not moving, 'still moving after their courses ended: %s' % moving
     for r in results:
         if r['exit'] != 0:

@@ -7,6 +7,11 @@ only once it has them all. Before a course, :meth:`CmdVel.wait_for_listener`
 waits for a subscriber; when none comes it names the topics that do take
 Twist commands (a remap hint).
 """
+import fcntl
+import io
+import struct
+import termios
+
 import rospy
 from geometry_msgs.msg import Twist
 
@@ -32,6 +37,32 @@ class CmdVel(object):
     @property
     def resolved_name(self):
         return self.pub.resolved_name
+
+    @staticmethod
+    def message_bytes():
+        """Bytes one command takes on a connection (its length prefix too)."""
+        buff = io.BytesIO()
+        Twist().serialize(buff)
+        return 4 + len(buff.getvalue())
+
+    def unacknowledged(self):
+        """The most bytes of commands any cmd_vel connection has not had
+        acknowledged by the subscriber's host: in rospy's queue or in the
+        kernel's send queue (Linux, TIOCOUTQ). None where that cannot be
+        told. TCP delivers in order, so a command sent earlier than these
+        bytes has reached the robot's host."""
+        most = 0
+        for conn in list(self.pub.impl.connections):
+            queued = sum(len(data) for data in getattr(conn, '_queue', None) or ())
+            sock = getattr(conn, 'socket', None)
+            if sock is None:
+                continue
+            try:
+                raw = fcntl.ioctl(sock.fileno(), termios.TIOCOUTQ, b'\0' * 4)
+            except (OSError, ValueError):  # closed meanwhile, or not Linux
+                return None
+            most = max(most, queued + struct.unpack('i', raw)[0])
+        return most
 
     def send(self, twist):
         """Publish on cmd_vel, counted for lockstep (the simulator steps on

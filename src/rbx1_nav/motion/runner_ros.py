@@ -41,6 +41,8 @@ from rbx1_nav.common.node_ros import start_node
 from rbx1_nav.motion.aborted import CourseAborted
 from rbx1_nav.motion.cmd_vel_ros import CmdVel
 from rbx1_nav.motion.precise import Breakaway
+from rbx1_nav.motion.settle import (GAVE_UP, SETTLE_PARAMS, WAITING, Settle,
+                                    delivered, moved_text)
 from rbx1_nav.motion.summary import stalls_text, summary_line
 from rbx1_nav.motion.tf_follow_ros import TF_TOPIC, TfFollower
 from rbx1_nav.motion.ticks_ros import Ticks
@@ -76,7 +78,7 @@ def common_params(rate):
               '(a slow link to the robot)', **params.POSITIVE),
         param('start_delay', 0.0, params.number, 's',
               'pause before moving (e.g. for a bag recorder)', minimum=0.0),
-    )
+    ) + SETTLE_PARAMS
 
 
 class MotionRunner(object):
@@ -194,7 +196,8 @@ class MotionRunner(object):
         self.tf.pick_simulator(self.ticks.member.simulators())
 
     def _drive(self, course):
-        """The control loop of :meth:`run`."""
+        """The control loop of :meth:`run`: the course's steps, then (with
+        odometry) the wait for a still robot (:meth:`_settled`)."""
         blind = self.tf.followed is None
         course.breakaway = self.breakaway
         self.dropouts = DropoutHold(
@@ -202,6 +205,8 @@ class MotionRunner(object):
             self.settings['tf_timeout'], self.settings['link_grace'], self.stop)
         pose = Pose2D(0.0, 0.0, 0.0) if blind else None
         last_stamp = fresh_at = None
+        settle = None  # once the course is done: its rbx1_nav.motion.settle.Settle
+        stops, message_bytes = 0, self.cmd_vel.message_bytes()  # sent after it
         self.tick_times = []
         for now in self.ticks.ticks(self._joined):
             self.tick_times.append(now.to_sec())
@@ -209,10 +214,21 @@ class MotionRunner(object):
                 fresh_at = now
             reading = (None if blind
                        else self.tf.reading(now, self.ticks.grant))
-            if reading is not None and (last_stamp is None
-                                        or reading[1] > last_stamp):
+            fresh = reading is not None and (last_stamp is None
+                                             or reading[1] > last_stamp)
+            if fresh:
                 pose, last_stamp = reading
                 fresh_at = now
+            if settle is not None:  # after the last step: stop, and watch
+                self.stop()
+                stops += 1
+                # A stale transform is held as in the course (CourseAborted
+                # past ~link_grace); the wait counts odometry's stamps.
+                sent = delivered(self.cmd_vel.unacknowledged(), stops, message_bytes)
+                if (not self.dropouts.held(now, fresh_at) and fresh
+                        and settle.update(pose, last_stamp.to_sec(), sent) != WAITING):
+                    break
+                continue
             if not blind and self.dropouts.held(now, fresh_at):
                 self.publish(course.hold(now.to_sec()))
                 continue
@@ -227,13 +243,45 @@ class MotionRunner(object):
             for event in course.pop_events():
                 rospy.loginfo(self.robot + event)
             if course.done:
-                break
-        if not course.done:
+                self.stop()
+                self.stalls.check(course)
+                course.stalls.end(self.tick_times[-1])
+                if blind:
+                    break
+                settle = Settle(pose, now.to_sec(), self.settings['settle_time'],
+                                self.settings['settle_timeout'])
+        if not course.done or (settle is not None and settle.state == WAITING):
             raise rospy.ROSInterruptException('shutdown before the course ended')
         self.stop()
-        self.stalls.check(course)
-        course.stalls.end(self.tick_times[-1])
+        if settle is not None:
+            self._settled(course, settle)
         return None if blind else pose
+
+    def _settled(self, course, settle):
+        """Say how the wait for a still robot after ``course`` ended, and
+        count any turn after the end in the course's yaw total."""
+        waited = self.tick_times[-1] - settle.ended
+        if settle.state == GAVE_UP:
+            rospy.logwarn('%s%s: the robot did not settle: odometry still '
+                          '%s %.1f s after the course ended '
+                          '(~settle_timeout); the final pose below is the '
+                          'last read, not a still one', self.robot, self.name,
+                          'odometry still changing' if settle.sent else
+                          'commands sent before the end not yet delivered',
+                          waited)
+        elif settle.undelivered is not None:
+            rospy.loginfo('%s%s: commands sent before the course ended were '
+                          'still on their way %.2f s after it (a slow link); '
+                          'robot still %.2f s after the end', self.robot,
+                          self.name, settle.undelivered - settle.ended, waited)
+        moved = settle.moved()
+        course.yaw_total += moved.yaw
+        text = moved_text(moved)
+        if text:
+            rospy.logwarn('%s%s: %s; the final pose below is where it stands '
+                          'now%s', self.robot, self.name, text,
+                          ' (precise mode checked its goal before that)'
+                          if course.predicts else '')
 
     @property
     def last_tick(self):

@@ -1,0 +1,131 @@
+"""After a course's last step: wait for a still robot, then take its pose.
+
+No rospy here. A command the link delayed (a creep command stuck behind
+lost packets on a lossy link) can reach the robot after the course has
+ended and move it until its cmd_vel watchdog stops it, after the
+course read its final pose. So the runner (rbx1_nav.motion.runner_ros)
+keeps commanding zero after the last step and feeds each pose odometry
+gives to a :class:`Settle` until the robot has stood still for
+``settle_time`` s of odometry's stamps (longer than the robot's
+watchdog, so a late command shows as motion within it) after the
+course ended, and after the robot's host has acknowledged every command
+sent before the end (:func:`delivered`: a command stuck behind lost
+packets can be held back by TCP for seconds); that pose is the one the
+summary reports. When odometry
+stamped ``timeout`` s after the end has not stood still that long, it
+gives up: the robot did not settle. Both count odometry's stamps, not the
+clock: while the transform is stale (a link dropout) nothing can be
+judged, and the runner's dropout hold (~link_grace) bounds that wait.
+
+:meth:`Settle.moved` says how far the robot moved after the course's own
+end; :func:`moved_text` words it when that is more than REPORT_M /
+REPORT_RAD.
+"""
+import math
+from collections import namedtuple
+
+from rbx1_nav.common import params
+from rbx1_nav.common.params import param
+from rbx1_nav.transform_utils import normalize_angle
+
+__all__ = ['GAVE_UP', 'delivered', 'LINEAR_EPS', 'ANGULAR_EPS', 'REPORT_M', 'REPORT_RAD',
+           'SETTLE_PARAMS', 'STILL', 'Settle', 'WAITING', 'moved_text']
+
+WAITING, STILL, GAVE_UP = 'waiting', 'still', 'gave up'
+
+#: A pose that changes less than this from where a still spell began is
+#: still (odometry of a standing robot reads the same pose, give or take
+#: rounding).
+LINEAR_EPS = 2e-5  # m (0.02 mm)
+ANGULAR_EPS = math.radians(0.002)  # rad
+#: Motion after the course's end worth a warning.
+REPORT_M = 1e-4  # m (0.1 mm)
+REPORT_RAD = math.radians(0.01)  # rad
+
+SETTLE_PARAMS = (
+    param('settle_time', 0.6, params.number, 's',
+          "after the last step, wait until odometry has stood still this "
+          "long (longer than the robot's cmd_vel watchdog: a late command "
+          "shows) and report that pose", **params.POSITIVE),
+    param('settle_timeout', 5.0, params.number, 's',
+          'give up waiting for a still robot (and say so) when odometry '
+          'this long after the last step has not stood still', **params.POSITIVE),
+)
+
+Moved = namedtuple('Moved', 'distance yaw')
+Moved.__doc__ = """How far the robot moved after the course ended: distance (m)
+and yaw (rad, signed)."""
+
+
+class Settle(object):
+    """Wait for a still robot after a course that ended at pose ``end``
+    (Pose2D) at time ``ended`` (s, the clock of the poses' stamps).
+
+    Call :meth:`update` with each new pose and its stamp; it returns
+    WAITING, STILL (the pose fed last is the settled one) or GAVE_UP (a
+    pose stamped ``timeout`` s past ``ended`` without ``settle_time`` s of
+    stillness after the end).
+    """
+
+    def __init__(self, end, ended, settle_time, timeout):
+        if not (settle_time > 0.0 and timeout > 0.0):
+            raise ValueError('settle_time and timeout must be positive, got '
+                             '%r and %r' % (settle_time, timeout))
+        self.end = end
+        self.ended = float(ended)
+        self.settle_time = float(settle_time)
+        self.timeout = float(timeout)
+        self.pose = end  # the pose fed last
+        self._anchor = end  # where the current still spell began
+        self._since = float(ended)  # its stamp, not before the end
+        self.state = WAITING
+        self.sent = True  # as update() was told last
+        self.undelivered = None  # the stamp (s) commands were on their way last
+
+    def update(self, pose, stamp, sent=True):
+        """The state after a new pose stamped ``stamp`` (s); ``sent`` is
+        False while commands sent before the end may still be on their way
+        (:func:`delivered`): a still spell begins only once they are not."""
+        self.pose = pose
+        self.sent = sent
+        if not sent:
+            self.undelivered = float(stamp)
+        if not sent or not _same(pose, self._anchor):
+            self._anchor = pose
+            self._since = max(float(stamp), self.ended)
+        if stamp - self._since >= self.settle_time - 1e-9:
+            self.state = STILL
+        elif stamp - self.ended >= self.timeout - 1e-9:
+            self.state = GAVE_UP
+        else:
+            self.state = WAITING
+        return self.state
+
+    def moved(self):
+        """How far the pose fed last is from the course's end pose."""
+        return Moved(math.hypot(self.pose.x - self.end.x, self.pose.y - self.end.y),
+                     normalize_angle(self.pose.yaw - self.end.yaw))
+
+
+def delivered(unacknowledged, sent_since, message_bytes):
+    """True when every command sent before the end has reached the robot's
+    host: no more bytes are unacknowledged (``unacknowledged``, None when
+    unknown: True) than the ``sent_since`` commands of ``message_bytes``
+    each sent after the end take."""
+    return (unacknowledged is None
+            or unacknowledged <= sent_since * message_bytes)
+
+
+def _same(a, b):
+    """True when pose ``a`` is within LINEAR_EPS / ANGULAR_EPS of ``b``."""
+    return (math.hypot(a.x - b.x, a.y - b.y) <= LINEAR_EPS
+            and abs(normalize_angle(a.yaw - b.yaw)) <= ANGULAR_EPS)
+
+
+def moved_text(moved):
+    """A warning's words for ``moved`` (a :class:`Moved`), or None when it is
+    within REPORT_M and REPORT_RAD."""
+    if moved.distance <= REPORT_M and abs(moved.yaw) <= REPORT_RAD:
+        return None
+    return ('the robot moved %.1f mm / %+.2f deg after the course ended '
+            '(a late command?)' % (1000.0 * moved.distance, math.degrees(moved.yaw)))
