@@ -313,6 +313,7 @@ class PoseEkfNode(object):
                 return
             rospy.rostime.wallsleep(0.1)
 
+
 def main(specs, doc):
     """main() of pose_ekf.py: start the node (as robot_pose_ekf) with its
     parameters ``specs`` (``doc``: its docstring, for --help) and run the
