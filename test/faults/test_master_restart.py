@@ -276,6 +276,25 @@ def test_master_killed_mid_course_the_course_finishes_and_says_so(graph):
     assert len(warned) == 1 and 'localhost:%d' % graph.port in warned[0], course.text()
 
 
+def listen_when_free(port, limit=5.0):
+    """A socket listening on ``port`` once the killed master's own listening
+    socket has closed (its processes exit a moment after the kill), waiting
+    up to ``limit`` wall s."""
+    deadline = time.monotonic() + limit
+    while True:
+        sock = socket.socket()
+        sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        try:
+            sock.bind(('', port))
+            sock.listen(64)
+            return sock
+        except OSError:
+            sock.close()
+            if time.monotonic() > deadline:
+                raise
+            time.sleep(0.05)
+
+
 @pytest.mark.xdist_group('two_hosts')
 @pytest.mark.skipif(shutil.which('roscore') is None,
                     reason='no roscore: source a ROS workspace')
@@ -285,10 +304,7 @@ def test_robot_lost_with_a_silent_master_the_course_stops_and_exits_in_time(grap
     link.kill_tree(core.proc.pid)
     core.proc.wait()
     # A master that takes connections and never answers: every call hangs.
-    silent = socket.socket()
-    silent.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-    silent.bind(('', graph.port))
-    silent.listen(64)
+    silent = listen_when_free(graph.port)
     try:
         link.kill_tree(robot.proc.pid)
         robot.proc.wait()

@@ -374,6 +374,12 @@ def off_by(pose, goal):
             math.degrees(turn))
 
 
+def found(pattern, lines):
+    """The first group of ``pattern`` in each of the (time, line) ``lines``
+    that has it."""
+    return [m.group(1) for m in (re.search(pattern, line) for _, line in lines) if m]
+
+
 def one_leg_end(start, distance):
     """Where a perfect robot ends one leg (drive ``distance``, turn pi)
     begun at ``start`` (x, y, yaw rad)."""
@@ -448,11 +454,9 @@ def test_twenty_percent_loss_precise_courses_ride_it_out(hosts):
         r['late'] = r['summary'] and len([row for row in rows if row[0] > r['summary'][0]])
         # What the course saw move after its last step, while it waited for
         # a still robot (rbx1_nav.motion.settle), and whether it settled.
-        r['after'] = [re.search(r'moved ([^(]*) after the course ended', line).group(1)
-                      for _, line in r['course'].lines if 'after the course ended' in line]
+        r['after'] = found(r'moved ([^(]*) after the course ended', r['course'].lines)
         r['unsettled'] = any('did not settle' in line for _, line in r['course'].lines)
-        r['on_way'] = [re.search(r'on their way ([0-9.]+ s)', line).group(1)
-                       for _, line in r['course'].lines if 'on their way' in line]
+        r['on_way'] = found(r'still on their way ([0-9.]+ s)', r['course'].lines)
     good = [r for r in results if r['exit'] == 0 and within(r['truth'])]
     print('RESULT 20 %% loss, %d precise courses at once (~link_grace %g s): %d within '
           '5 mm / 0.5 deg by ground truth; %s' % (
