@@ -254,6 +254,16 @@ def test_the_inbox_of_a_late_member_takes_what_it_heard_before_its_first_grant()
     assert inbox.take([('/odom', '/sim', 41)], key=str) == ['next']
 
 
+def test_messages_passed_while_not_a_member_are_counted_not_kept():
+    inbox = Inbox(['/tf'])
+    for _ in range(3):
+        inbox.passed('/tf', '/ekf')  # before the course joined
+    inbox.arrived('/tf', '/ekf', 'kept')
+    assert sum(len(q) for q in inbox.held.values()) == 1
+    assert inbox.take([('/tf', '/ekf', 3)], key=str) == []
+    assert inbox.take([('/tf', '/ekf', 4)], key=str) == ['kept']
+
+
 # -- A whole graph, with messages delayed and reordered ----------------------
 
 class Network(object):

@@ -129,6 +129,12 @@ class Inbox(object):
         self.ledger.arrived(topic, sender)
         self.held[(topic, sender)].append(item)
 
+    def passed(self, topic, sender):
+        """A message counted but not kept (its member is not taking part:
+        nothing would take it, and an idle node must not hoard them)."""
+        self.ledger.arrived(topic, sender)
+        self.taken[(topic, sender)] += 1
+
     def take(self, counts, key):
         """The items the grant's ``counts`` cover that were not taken
         before, plus every item from an uncounted sender, sorted by

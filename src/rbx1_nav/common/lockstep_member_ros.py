@@ -270,12 +270,15 @@ class Member(object):
 
     def arrived(self, topic, msg, item=None):
         """Count a message that arrived on ``topic`` (an input); with
-        ``hold``, keep ``item`` (what the member needs of it) for :meth:`take`."""
+        ``hold``, keep ``item`` (what the member needs of it) for :meth:`take`
+        while a member (a course between two runs keeps nothing)."""
         with self.cond:
             if self.inbox is None:
                 self.ledger.arrived(topic, sender(msg))
-            else:
+            elif self.joined:
                 self.inbox.arrived(topic, sender(msg), item)
+            else:
+                self.inbox.passed(topic, sender(msg))
             self.cond.notify_all()
 
     def take(self, grant, key):
