@@ -267,6 +267,7 @@ class PoseEkfNode(object):
             return
         period = int(round(1e9 / self.freq))
         started = False
+        old_clock = None  # after a move back: the time (ns) it moved back from
         while not rospy.is_shutdown():
             granted = member.wait_grant(lockstep.NO_OWNER_WARNING)
             if granted is None:
@@ -277,10 +278,16 @@ class PoseEkfNode(object):
             now = tick * 1e-9
             taken = member.take(grant, key=lambda item: (
                 item[1].header.stamp.to_nsec(), item[0]))
-            if action == BACK:  # a new clock: what the old one sent is past
+            if action == BACK:
                 started = False
+                old_clock = member.follower.handled
+            if old_clock is not None and tick <= old_clock:
+                # A new clock, still behind the old one: a message stamped
+                # after the tick is the old clock's, however late it comes.
                 taken = [item for item in taken
                          if item[1].header.stamp.to_nsec() <= tick]
+            else:
+                old_clock = None
             if taken and not started:
                 # Start-up counts from the first data: the time before it
                 # (a bag's player not granted yet) is not the sensors' silence.
