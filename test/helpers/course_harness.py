@@ -12,9 +12,11 @@ import os
 import re
 import signal
 import subprocess
+import tempfile
 import threading
 import time
 
+import rospkg
 import rospy
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
@@ -207,13 +209,18 @@ class FakeRobot(object):
 
     def __init__(self, settings):
         rospy.set_param('/fake_turtlebot', settings)
+        # Its output kept beside the run's other logs, for a robot that
+        # exits early (seen once: it left lockstep before a course began).
+        self.log = tempfile.NamedTemporaryFile(
+            prefix='fake_turtlebot_', suffix='.log', delete=False,
+            dir=rospkg.get_log_dir() if os.path.isdir(rospkg.get_log_dir()) else None)
         self.proc = subprocess.Popen(['rosrun', 'rbx1_nav', 'fake_turtlebot.py'],
-                                     stdout=subprocess.DEVNULL,
-                                     stderr=subprocess.DEVNULL)
+                                     stdout=self.log, stderr=subprocess.STDOUT)
 
     def close(self):
         self.proc.terminate()
         self.proc.wait()
+        self.log.close()
         rospy.delete_param('/fake_turtlebot')
 
     @staticmethod
