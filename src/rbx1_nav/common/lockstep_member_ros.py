@@ -202,6 +202,17 @@ class Member(object):
                 rospy.logwarn(no_owner_text(log_name))
         return False
 
+    def grants(self, log_name):
+        """(action, time ns, grant) of each step granted to a member no
+        robot waits on (a filter, a bag player), until shutdown; a warning
+        every NO_OWNER_WARNING s without one."""
+        while not rospy.is_shutdown():
+            granted = self.wait_grant(NO_OWNER_WARNING)
+            if granted is not None:
+                yield granted
+            elif not rospy.is_shutdown():
+                rospy.logwarn(no_owner_text(log_name))
+
     def wait_grant(self, limit=None):
         """Wait for the next step granted to this node; return (action,
         time ns, grant): action HANDLE or BACK (rbx1_nav.common.lockstep_member.Follower).

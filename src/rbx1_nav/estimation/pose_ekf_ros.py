@@ -268,13 +268,7 @@ class PoseEkfNode(object):
         period = int(round(1e9 / self.freq))
         started = False
         old_clock = None  # after a move back: the time (ns) it moved back from
-        while not rospy.is_shutdown():
-            granted = member.wait_grant(lockstep.NO_OWNER_WARNING)
-            if granted is None:
-                if not rospy.is_shutdown():
-                    rospy.logwarn(lockstep.no_owner_text('pose_ekf'))
-                continue
-            action, tick, grant = granted
+        for action, tick, grant in member.grants('pose_ekf'):
             now = tick * 1e-9
             taken = member.take(grant, key=lambda item: (
                 item[1].header.stamp.to_nsec(), item[0]))

@@ -94,13 +94,7 @@ def main(name, specs, doc):
     if not member.join_patiently(name):
         return 0
     shown = 0
-    while not rospy.is_shutdown():
-        granted = member.wait_grant(lockstep.NO_OWNER_WARNING)
-        if granted is None:
-            if not rospy.is_shutdown():
-                rospy.logwarn(lockstep.no_owner_text(name))
-            continue
-        action, tick, _ = granted
+    for action, tick, _ in member.grants(name):
         if action == BACK:
             rospy.logerr('%s: simulated time moved back (sim_clock restarted); '
                          'stopping the replay', name)
