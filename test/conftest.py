@@ -21,6 +21,21 @@ NORMAL_PRIORITY = {'free_running', 'two_hosts'}
 LOW_PRIORITY = 5
 
 
+def _order(item):
+    """Where ``item`` goes in the run: the long one-after-another groups
+    first, then the graphs, then the unit tests, which are short and fill
+    the gaps at the end. pytest-xdist hands out work in collection order,
+    so a group collected last (the two-host suite, about two minutes of
+    mostly waiting) would otherwise run alone at the end of the run."""
+    if _group(item) in NORMAL_PRIORITY:
+        return 0
+    return 2 if os.sep + 'unit' + os.sep in str(item.fspath) else 1
+
+
+def pytest_collection_modifyitems(items):
+    items.sort(key=_order)  # stable: collection order within each part
+
+
 def _group(item):
     marker = item.get_closest_marker('xdist_group')
     if marker is None:
