@@ -221,6 +221,38 @@ def test_a_simulator_started_late_does_not_wait_for_earlier_commands():
     assert ledger.missing([('/cmd_vel', '/course', 121)]) == []
 
 
+def test_a_sender_started_again_under_its_name_is_waited_for_from_its_first():
+    ledger = MessageLedger(['/cmd_vel'])
+    for _ in range(120):
+        ledger.arrived('/cmd_vel', '/umbmark')
+    ledger.restarts([('/cmd_vel', '/umbmark', 120)])
+    assert ledger.missing([('/cmd_vel', '/umbmark', 120)]) == []
+    ledger.restarts([('/cmd_vel', '/umbmark', 2)])  # the new /umbmark's count
+    assert ledger.missing([('/cmd_vel', '/umbmark', 2)]) == [('/cmd_vel', '/umbmark', 2)]
+    ledger.arrived('/cmd_vel', '/umbmark')
+    ledger.arrived('/cmd_vel', '/umbmark')
+    assert ledger.missing([('/cmd_vel', '/umbmark', 2)]) == []
+
+
+def test_a_restarted_simulator_waits_for_a_restarted_sender():
+    """The grant still shows the old sender's count when the simulator
+    joins (settled as sent before it listened); then the new one's."""
+    ledger = MessageLedger(['/cmd_vel'])
+    ledger.settle([('/cmd_vel', '/umbmark', 120)])
+    ledger.restarts([('/cmd_vel', '/umbmark', 120)])
+    ledger.restarts([('/cmd_vel', '/umbmark', 1)])
+    assert ledger.missing([('/cmd_vel', '/umbmark', 1)]) == [('/cmd_vel', '/umbmark', 1)]
+    inbox = Inbox(['/odom'])
+    inbox.arrived('/odom', '/sim', 'old')
+    inbox.ledger.restarts([('/odom', '/sim', 1)])
+    assert inbox.take([('/odom', '/sim', 1)], key=str) == ['old']
+    inbox.arrived('/odom', '/sim', 'new')
+    inbox.ledger.restarts([('/odom', '/sim', 1)])  # not a drop: the same count
+    inbox.ledger.restarts([('/odom', '/sim', 0)])
+    inbox.ledger.restarts([('/odom', '/sim', 1)])
+    assert inbox.take([('/odom', '/sim', 1)], key=str) == ['new']
+
+
 def test_the_inbox_gives_only_what_the_grant_counts_in_stamp_order():
     """A message published during the step being handled may have arrived
     or not: taken only once a grant counts it, so every run reads the same."""

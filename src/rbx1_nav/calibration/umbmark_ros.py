@@ -73,12 +73,14 @@ class Benchmark(object):
                     raise rospy.ROSInterruptException('shutdown at the prompt')
             elif k > 0 and v['run_pause'] > 0:
                 rospy.loginfo('%s starts in %.1f s', label, v['run_pause'])
-                rospy.sleep(v['run_pause'])
+                self.runner.pause(v['run_pause'])
             truth_start = self.truth and self.truth.at(rospy.Time.now())
             course = umbmark.square_course(
                 v['side'], clockwise, v['linear_speed'], v['angular_speed'],
                 approach(dict(v, precise=True)), v['pause'], label)
-            final = self.runner.run(course)
+            # Unattended, the runs follow each other as one lockstep member.
+            final = self.runner.run(course, stay=not self.interactive
+                                    and k + 1 < len(runs))
             odom = umbmark.relative(course.start_pose, final)
             self.odometry.append(odom)
             rospy.loginfo('%s: odometry says it stopped at (%+.1f, %+.1f) mm '

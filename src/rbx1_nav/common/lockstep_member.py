@@ -78,7 +78,9 @@ class MessageLedger(object):
     def __init__(self, topics):
         self.topics = set(topics)
         self.received = collections.Counter()  # (topic, sender) -> messages
-        self.lost = collections.Counter()      # given up as lost on the way
+        # Given up as lost on the way (less a restarted sender's old count).
+        self.lost = collections.Counter()
+        self.counted = {}  # (topic, sender) -> the count in the last grant
 
     def arrived(self, topic, sender):
         self.received[(topic, sender)] += 1
@@ -99,6 +101,18 @@ class MessageLedger(object):
         for topic, sender, count in counts:
             if topic in self.topics:
                 self.lost[(topic, sender)] = max(0, count - self.received[(topic, sender)])
+
+    def restarts(self, counts):
+        """Take a grant's ``counts``: a sender whose count went down is a
+        node started again under the same name, counting from zero; the
+        old one's messages (all arrived or lost: it had left) no longer
+        count. Without this a simulator would take the new node's first
+        commands as the old one's, and step without waiting for them."""
+        for topic, sender, count in counts:
+            before = self.counted.get((topic, sender), 0)
+            if count < before:
+                self.lost[(topic, sender)] -= before
+            self.counted[(topic, sender)] = count
 
     def give_up(self, counts):
         """Take the missing messages of ``counts`` as lost; return them."""

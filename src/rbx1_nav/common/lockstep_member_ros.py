@@ -268,6 +268,7 @@ class Member(object):
             if not self.settled:
                 self.ledger.settle(counts)
                 self.settled = True
+            self.ledger.restarts(counts)
             while self.ledger.missing(counts):
                 if time.monotonic() > deadline:
                     for topic, name, short in self.ledger.give_up(counts):

@@ -50,7 +50,10 @@ class CmdVel(object):
         acknowledged by the subscriber's host: in rospy's queue or in the
         kernel's send queue (Linux, TIOCOUTQ). None where that cannot be
         told. TCP delivers in order, so a command sent earlier than these
-        bytes has reached the robot's host."""
+        bytes has reached the robot's host. Under lockstep, 0: the
+        simulator steps only once it has every command counted."""
+        if self.member is not None:
+            return 0
         most = 0
         for conn in list(self.pub.impl.connections):
             queued = sum(len(data) for data in getattr(conn, '_queue', None) or ())

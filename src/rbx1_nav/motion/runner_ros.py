@@ -120,7 +120,8 @@ class MotionRunner(object):
                                             self.stop)
         self._started = False
         self.dropouts = None  # the transform's, in the course driven last
-        self.tick_times = []  # the control ticks (s) of the course driven last
+        self.tick_times = []  # the control ticks (s) of the course driven last, from its first
+        self._last_tick = None  # the ROS time of the last of them
         # Precise mode's creep speeds learned where the robot stuck: kept
         # for every course this runner drives.
         self.breakaway = Breakaway()
@@ -170,11 +171,13 @@ class MotionRunner(object):
             self.cmd_vel.watch_publishers(self.name)
             self._started = True
 
-    def run(self, course):
+    def run(self, course, stay=False):
         """Drive ``course``; return the final pose (None when blind).
 
         Raises CourseAborted or rospy.ROSInterruptException if the course
-        did not complete; the robot is stopped either way.
+        did not complete; the robot is stopped either way. With ``stay``,
+        a lockstep member stays one after the course (another follows at
+        once: see :meth:`pause` and :meth:`leave`).
         """
         self.start()
         wall = self.ticks.member is not None  # start-up waits: wall time
@@ -184,11 +187,23 @@ class MotionRunner(object):
         self.cmd_vel.wait_for_listener(self.settings['tf_wait'])
         if self.settings['start_delay'] > 0.0:
             rospy.loginfo('Starting in %.1f s', self.settings['start_delay'])
-            rospy.sleep(self.settings['start_delay'])
+            self.pause(self.settings['start_delay'])
         try:
-            return self._drive(course)
-        finally:
-            self.ticks.leave()
+            final = self._drive(course)
+        except BaseException:
+            self.leave()
+            raise
+        if not stay:
+            self.leave()
+        return final
+
+    def pause(self, seconds):
+        """Wait ``seconds`` of ROS time between courses (see Ticks.pause)."""
+        self.ticks.pause(seconds)
+
+    def leave(self):
+        """Leave the lockstep after the last course (a no-op off it)."""
+        self.ticks.leave()
 
     def _joined(self):
         """Under lockstep, once a member: the simulator whose state to wait
@@ -208,8 +223,15 @@ class MotionRunner(object):
         settle = None  # once the course is done: its rbx1_nav.motion.settle.Settle
         stops, message_bytes = 0, self.cmd_vel.message_bytes()  # sent after it
         self.tick_times = []
+        start = None
         for now in self.ticks.ticks(self._joined):
-            self.tick_times.append(now.to_sec())
+            # The course counts seconds from its first tick, from the ROS
+            # times' integer ns: the same ticks give the same seconds
+            # whenever it began (under lockstep, the same course).
+            if start is None:
+                start = now
+            self.tick_times.append((now - start).to_sec())
+            self._last_tick = now
             if fresh_at is None:
                 fresh_at = now
             reading = (None if blind
@@ -219,6 +241,7 @@ class MotionRunner(object):
             if fresh:
                 pose, last_stamp = reading
                 fresh_at = now
+            t = self.tick_times[-1]
             if settle is not None:  # after the last step: stop, and watch
                 self.stop()
                 stops += 1
@@ -226,11 +249,12 @@ class MotionRunner(object):
                 # past ~link_grace); the wait counts odometry's stamps.
                 sent = delivered(self.cmd_vel.unacknowledged(), stops, message_bytes)
                 if (not self.dropouts.held(now, fresh_at) and fresh
-                        and settle.update(pose, last_stamp.to_sec(), sent) != WAITING):
+                        and settle.update(pose, (last_stamp - start).to_sec(),
+                                          sent) != WAITING):
                     break
                 continue
             if not blind and self.dropouts.held(now, fresh_at):
-                self.publish(course.hold(now.to_sec()))
+                self.publish(course.hold(t))
                 continue
             if pose is None:  # found a moment ago; lookups may lag a cycle
                 continue
@@ -239,7 +263,7 @@ class MotionRunner(object):
                 self.tf_age.check(age, course.predicts, self.tf.odom_frame,
                                   self.tf.followed)
             self.stalls.check(course)
-            self.publish(course.update(pose, now.to_sec(), age))
+            self.publish(course.update(pose, t, age))
             for event in course.pop_events():
                 rospy.loginfo(self.robot + event)
             if course.done:
@@ -248,7 +272,7 @@ class MotionRunner(object):
                 course.stalls.end(self.tick_times[-1])
                 if blind:
                     break
-                settle = Settle(pose, now.to_sec(), self.settings['settle_time'],
+                settle = Settle(pose, t, self.settings['settle_time'],
                                 self.settings['settle_timeout'])
         if not course.done or (settle is not None and settle.state == WAITING):
             raise rospy.ROSInterruptException('shutdown before the course ended')
@@ -291,7 +315,7 @@ class MotionRunner(object):
         process received, which may lag the course's own ticks (granted
         to it under lockstep) on a loaded machine: read a simulator's
         state at this time instead."""
-        return rospy.Time.from_sec(self.tick_times[-1])
+        return self._last_tick
 
     def summarize(self, course, final):
         """Log the final pose against the start, the course time, and the

@@ -6,6 +6,9 @@ On a real robot (or simulated time without lockstep) a tick comes every
 drives: it joins the owner of simulated time, waits for each grant naming
 it (the simulator has published its state at that tick), handles the tick,
 and reports it handled with its next tick 1/~rate s on; time waits for it.
+A node that drives several courses in a row (UMBmark's runs) may stay a
+member between them: time then waits for it between courses too, so each
+course starts at the same simulated time on every run.
 """
 import rospy
 
@@ -29,6 +32,7 @@ class Ticks(object):
         self.grant_wait = grant_wait
         self.stop = stop
         self.grant = None  # the lockstep grant of the current tick
+        self.unreported = None  # a tick handed out and not reported (ns)
 
     def ticks(self, joined=lambda: None):
         """The control ticks (ROS times). Under lockstep ``joined()`` runs
@@ -41,14 +45,18 @@ class Ticks(object):
                 rate.sleep()
             return
         member = self.member
-        try:
-            member.join(self.join_wait)
-        except lockstep.JoinError as err:
-            raise CourseAborted('/lockstep is set but this node cannot join: %s. '
-                                'Start the simulator with lockstep too, or set '
-                                '/lockstep false' % err)
-        joined()
         period = int(round(1e9 / self.rate))
+        if self.unreported is not None:  # still a member: the next tick
+            member.report(self.unreported, self.unreported + period)
+            self.unreported = None
+        else:
+            try:
+                member.join(self.join_wait)
+            except lockstep.JoinError as err:
+                raise CourseAborted('/lockstep is set but this node cannot join: %s. '
+                                    'Start the simulator with lockstep too, or set '
+                                    '/lockstep false' % err)
+            joined()
         limit = max(lockstep.GRANT_LIMIT, self.grant_wait)
         while True:
             granted = member.wait_grant(limit)
@@ -64,10 +72,26 @@ class Ticks(object):
             if action == BACK:
                 raise rospy.ROSTimeMovedBackwardsException(
                     (member.follower.handled - tick) * 1e-9)
+            self.unreported = tick
             yield from_ns(tick)
+            self.unreported = None
             member.report(tick, tick + period)
+
+    def pause(self, seconds):
+        """Wait ``seconds`` of ROS time: as granted ticks while a member
+        between courses (time waits for this node), else rospy.sleep."""
+        if self.unreported is None:
+            rospy.sleep(seconds)
+            return
+        end = None
+        for now in self.ticks():
+            if end is None:
+                end = now + rospy.Duration.from_sec(seconds)
+            if now >= end:
+                return
 
     def leave(self):
         """Leave the lockstep after a course (a no-op off lockstep)."""
+        self.unreported = None
         if self.member is not None:
             self.member.leave()

@@ -170,6 +170,11 @@ def _approach(current, target, max_change):
     return np.where(np.abs(target - current) <= max_change, target, moved)
 
 
+def _ns(seconds):
+    """``seconds`` as integer nanoseconds."""
+    return int(round(seconds * 1e9))
+
+
 class DiffDriveFleet:
     """N simulated bases of one configuration: feed them commands and
     times, read their state (row i is robot i).
@@ -186,8 +191,9 @@ class DiffDriveFleet:
     y, yaw), ``velocity`` and ``odom_velocity`` (N, 2: v, w),
     ``wheel_angles`` and ``wheel_velocities`` (N, 2: left, right),
     ``gyro_rate`` and ``gyro_yaw`` (N), ``timed_out`` (N, bool). The noise
-    of all robots comes from one generator seeded by ``config.seed``, drawn
-    for the whole fleet each step.
+    of all robots comes from two generators seeded by ``config.seed``, drawn
+    for the whole fleet each step: the gyros' every step, the encoders'
+    on the steps where a base moves.
     """
 
     def __init__(self, size, config=None):
@@ -198,12 +204,18 @@ class DiffDriveFleet:
         if isinstance(size, bool) or not isinstance(size, int) or size < 1:
             raise ValueError('a fleet needs at least one robot, got %r' % (size,))
         self.size = size
-        self._rng = np.random.default_rng(self.config.seed)
+        # Encoder and gyro noise from separate streams, and encoder noise
+        # drawn only while a base moves (at rest it is zero): a course
+        # meets the same noise whenever it starts.
+        self._rng, self._gyro_rng = (np.random.default_rng(s) for s in
+                                     np.random.SeedSequence(self.config.seed).spawn(2))
         # Per robot: (executable at, v, w) in arrival order.
         self._pending = [deque() for _ in range(size)]
         self._cmd = np.zeros((size, 2))
-        self._cmd_time = np.full(size, -np.inf)  # when the executing command became due
-        self._time = None
+        # Times in integer ns (as ROS stamps are): a course's steps and
+        # commands then fall alike whatever the clock read when it began.
+        self._cmd_time = np.full(size, -np.inf)  # ns: when the executing command became due
+        self._time = None  # ns of the last step
         self.timed_out = np.zeros(size, dtype=bool)  # True while the watchdog holds a base
         self._truth = np.zeros((size, 3))
         self.odom = np.zeros((size, 3))
@@ -238,7 +250,7 @@ class DiffDriveFleet:
         """
         cfg = self.config
         v, w = float(v), float(w)
-        due = stamp + cfg.command_latency
+        due = _ns(stamp) + _ns(cfg.command_latency)
         if not (math.isfinite(v) and math.isfinite(w)):
             self._pending[robot].append((due, 0.0, 0.0))
             return 'non-finite'
@@ -255,6 +267,7 @@ class DiffDriveFleet:
         restarted simulation clock) re-bases the clock there and drops the
         commands received so far, which stops the bases until their next one.
         """
+        now = _ns(now)
         dt = self._advance_clock(now)
         if dt is None:
             return False
@@ -264,8 +277,8 @@ class DiffDriveFleet:
         return True
 
     def _advance_clock(self, now):
-        """The seconds from the previous step to ``now``; None when time did
-        not advance (see :meth:`step`)."""
+        """The seconds from the previous step to ``now`` (ns); None when
+        time did not advance (see :meth:`step`)."""
         if self._time is None or now < self._time:
             if self._time is not None:  # restarted clock: forget old commands
                 for queue in self._pending:
@@ -273,7 +286,7 @@ class DiffDriveFleet:
                 self._cmd_time[:] = -np.inf
             self._time = now
             return None
-        dt = now - self._time
+        dt = (now - self._time) * 1e-9
         if dt == 0.0:
             return None
         self._time = now
@@ -288,14 +301,15 @@ class DiffDriveFleet:
         self._update_gyro(w, dt)
 
     def _execute(self, now, dt):
-        """The (v, w) arrays the bases execute over the step ending at ``now``."""
+        """The (v, w) arrays the bases execute over the step ending at
+        ``now`` (ns)."""
         cfg = self.config
         for robot, queue in enumerate(self._pending):
             while queue and queue[0][0] <= now:
                 self._cmd_time[robot], v, w = queue.popleft()
                 self._cmd[robot] = (v, w)
         # A robot that never had a command (time -inf) is timed out too.
-        self.timed_out = now - self._cmd_time > cfg.cmd_timeout
+        self.timed_out = now - self._cmd_time > _ns(cfg.cmd_timeout)
         target = np.where(self.timed_out[:, None], 0.0, self._cmd)
         return (_approach(self._commanded[:, 0], target[:, 0],
                           _max_change(cfg.accel_limit_linear, dt)),
@@ -314,7 +328,7 @@ class DiffDriveFleet:
         cfg = self.config
         half_track = 0.5 * cfg.wheel_separation
         travel = columns(v - w * half_track, v + w * half_track) * dt
-        if cfg.encoder_noise > 0:
+        if cfg.encoder_noise > 0 and travel.any():
             # Variance grows with distance travelled, not with the step count.
             travel += (cfg.encoder_noise * np.sqrt(np.abs(travel))
                        * self._rng.standard_normal(travel.shape))
@@ -345,7 +359,7 @@ class DiffDriveFleet:
         rate = w + cfg.gyro_bias
         if cfg.gyro_noise_density > 0:
             rate = rate + (cfg.gyro_noise_density / math.sqrt(dt)
-                           * self._rng.standard_normal(self.size))
+                           * self._gyro_rng.standard_normal(self.size))
         self.gyro_rate = rate
         self.gyro_yaw = wrap_angles(self.gyro_yaw + rate * dt)
 

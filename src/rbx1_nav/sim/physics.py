@@ -194,7 +194,7 @@ class PhysicsFleet(DiffDriveFleet):
         self.model = self._mujoco.MjModel.from_xml_string(mjcf(self.config, body, size))
         self.data = self._mujoco.MjData(self.model)
         self._mujoco.mj_step(self.model, self.data, nstep=int(round(SETTLE / TIMESTEP)))
-        self._elapsed = 0.0  # s of ROS time stepped
+        self._elapsed = 0    # ns of ROS time stepped
         self._steps = 0      # MuJoCo steps taken since
         self._ticks = self._encoder_ticks()
         self._truth = None  # read from the state when asked (_true_state)
@@ -255,8 +255,8 @@ class PhysicsFleet(DiffDriveFleet):
         wheels = columns(v - w * half_track, v + w * half_track) / cfg.wheel_radius
         wheels[np.abs(wheels) < cfg.motor_deadband] = 0.0
         self.data.ctrl[:] = wheels.ravel()
-        self._elapsed += dt
-        steps = int(round(self._elapsed / TIMESTEP)) - self._steps
+        self._elapsed += int(round(dt * 1e9))
+        steps = int(round(self._elapsed * 1e-9 / TIMESTEP)) - self._steps
         if steps > 0:
             self._mujoco.mj_step(self.model, self.data, nstep=steps)
             self._steps += steps
