@@ -10,8 +10,10 @@ Subscribes: odom (nav_msgs/Odometry), only its velocity: the summary counts the
             spells the robot stood still while commanded to move.
 Parameters: the book's values by default; the last eight are the
 runner's (rbx1_nav.motion.runner_ros), shared by every motion node.
-Exit status: 0 after a completed course, 1 on bad parameters, missing or
-stale tf, an error or an interruption. The robot is always sent a stop.
+Exit status: 0 after a completed course, 1 on bad or unknown parameters,
+missing or stale tf, another node driving the robot, a transform from two
+nodes or jumping further than the robot moves, an error or an
+interruption. The robot is always sent a stop.
 """
 
 from rbx1_nav.common.node_ros import exit_node

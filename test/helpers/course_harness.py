@@ -126,10 +126,12 @@ class RosoutWatch(object):
 class CourseProcess(object):
     """A motion node (odom_out_and_back.py unless ``script`` says otherwise)
     run through rosrun, its output collected; ``remaps`` maps topic names
-    (``{'/tf': 'tf'}``) as ``from:=to`` on its command line."""
+    (``{'/tf': 'tf'}``) as ``from:=to`` on its command line; ``leftovers``
+    are private parameters set on the master, not on its command line, as
+    an earlier run leaves them."""
 
     def __init__(self, ns='', params=None, name=None,
-                 script='odom_out_and_back.py', remaps=None):
+                 script='odom_out_and_back.py', remaps=None, leftovers=None):
         name = name or script[:-len('.py')]
         args = ['rosrun', 'rbx1_nav', script, '__name:=' + name]
         self.node_name = '/' + _join(ns.strip('/'), name)
@@ -145,6 +147,8 @@ class CourseProcess(object):
         # Private parameters of an earlier run stay on the master; start clean.
         if rospy.has_param(self.node_name):
             rospy.delete_param(self.node_name)
+        for key, value in sorted((leftovers or {}).items()):
+            rospy.set_param(self.node_name + '/' + key, value)
         self.lines = []
         self.line_times = []  # wall time (time.monotonic) each line arrived
         self.exit_time = None

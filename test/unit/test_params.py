@@ -280,3 +280,32 @@ def test_help_lists_each_parameter_once_with_default_and_bounds():
                                 'speed', '[>', '0', 'and', '<=', '2]']
     assert lines[2].split() == ['~precise', 'off', 'slow', 'down', 'near',
                                 'each', 'goal']
+
+
+# -- typos: an unknown parameter given to the node stops it ----------------
+
+from rbx1_nav.common import params  # noqa: E402
+
+def test_a_typo_on_the_command_line_stops_the_node():
+    specs = [params.param('goal_distance', 1.0, params.number, 'm', 'how far')]
+    found = params.unknown({'goal_distnace': 0.5}, specs)
+    assert found == [('goal_distnace', 'goal_distance')]
+    text = params.typos(found, ['odom_out_and_back.py', '_goal_distnace:=0.5'])
+    assert text.startswith('unknown parameter ~goal_distnace (did you mean '
+                           '~goal_distance?) on the command line; not starting')
+    assert '\n' not in text
+
+
+def test_a_typo_in_a_launch_file_stops_the_node():
+    found = [('goal_distnace', 'goal_distance'), ('zzz', None)]
+    text = params.typos(found, ['odom_out_and_back.py', '__name:=x',
+                                '__log:=/tmp/x.log'])
+    assert text.startswith('unknown parameters ~goal_distnace (did you mean '
+                           '~goal_distance?), ~zzz in the launch file;')
+
+
+def test_a_leftover_on_the_master_only_warns():
+    found = [('goal_distnace', 'goal_distance')]
+    assert params.typos(found, ['odom_out_and_back.py']) is None
+    assert params.typos(found, ['odom_out_and_back.py', '_rate:=10']) is None
+    assert params.typos([], ['odom_out_and_back.py', '__log:=/tmp/x.log']) is None

@@ -4,8 +4,9 @@
 waits for one, starts rospy with signal handling that cannot deadlock,
 keeps log calls off the master, waits for the first /clock under simulated
 time, reads and checks the node's declared private parameters
-(rbx1_nav.common.params.Param), warns about private parameters it does not know
-(naming the nearest known one), logs the values it uses and names those
+(rbx1_nav.common.params.Param), refuses a private parameter it does not know
+from its command line or launch file (a typo), warns about other unknown
+ones (naming the nearest known one), logs the values it uses and names those
 left on the parameter server by an earlier run (params.leftovers).
 :func:`until_shutdown` runs a node's main loop; :func:`exit_node` is a
 node's last line.
@@ -102,12 +103,20 @@ def read_params(specs):
 
 
 def warn_unknown(name, specs):
-    """One warning per private parameter on the server that no spec declares."""
+    """One warning per private parameter on the server that no spec
+    declares, left there by an earlier run; False, with one error instead,
+    when one came from this node's command line or launch file (a typo:
+    params.typos)."""
     given = rospy.get_param('~', {})
-    for unknown, nearest in params.unknown(given if isinstance(given, dict)
-                                           else {}, specs):
+    found = params.unknown(given if isinstance(given, dict) else {}, specs)
+    refused = params.typos(found, sys.argv)
+    if refused:
+        rospy.logerr('%s: %s', name, refused)
+        return False
+    for unknown, nearest in found:
         rospy.logwarn('%s: unknown parameter ~%s is ignored%s', name, unknown,
                       ' (did you mean ~%s?)' % nearest if nearest else '')
+    return True
 
 
 def start_node(name, specs, doc, clock=True):
@@ -117,7 +126,7 @@ def start_node(name, specs, doc, clock=True):
     publishes it.
 
     Returns the values, or None (logged, with how to clear a bad value) if
-    any is unusable.
+    any is unusable or a parameter given to the node is unknown.
     """
     exit_if_help(specs, doc)
     wait_for_master(name)
@@ -127,7 +136,8 @@ def start_node(name, specs, doc, clock=True):
     cache_rosout_setting()
     if clock and not wait_for_clock(CLOCK_WAIT):
         rospy.logwarn('%s: %s; waiting for it', name, no_clock_text(CLOCK_WAIT))
-    warn_unknown(name, specs)
+    if not warn_unknown(name, specs):
+        return None
     try:
         values = read_params(specs)
     except ValueError as err:

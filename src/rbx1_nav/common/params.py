@@ -23,7 +23,7 @@ from rbx1_nav.transform_utils import strip_leading_slash
 __all__ = ['number', 'integer', 'flag', 'frame', 'text', 'number_list', 'pairs',
            'names', 'raw', 'POSITIVE', 'Param', 'param', 'read_all', 'describe', 'unknown', 'usage',
            'bounds', 'clear_text', 'check_all',
-           'command_line', 'leftovers']
+           'command_line', 'leftovers', 'typos']
 
 
 def _as_float(name, value):
@@ -293,6 +293,32 @@ def command_line(argv):
         elif name.startswith('_') and not name.startswith('__'):
             given.add(name[1:])
     return given, launched
+
+
+def typos(found, argv):
+    """The ``found`` unknown parameters ((name, nearest) pairs, from
+    :func:`unknown`) that stop a node, and why, as a line; None when there
+    are none.
+
+    One given on the command line (``_goal_distnace:=0.5``) is a typo the
+    node must not run past: it would drive the default. So is any under
+    roslaunch (``argv`` has ``__log:=``): every launch file of the package
+    starts its nodes with clear_params, so each private parameter is the
+    launch file's own ``<param>``. Otherwise (rosrun) an unknown parameter
+    not on the command line is a leftover on the master, and only warned
+    of.
+    """
+    given, launched = command_line(argv)
+    bad = [(name, nearest) for name, nearest in found
+           if launched or name in given]
+    if not bad:
+        return None
+    return ('unknown parameter%s %s %s; not starting, so a misspelt name '
+            'does not run on its default. Fix the name (--help lists them)' % (
+                's' * (len(bad) > 1),
+                ', '.join('~%s%s' % (name, ' (did you mean ~%s?)' % nearest
+                                     if nearest else '') for name, nearest in bad),
+                'in the launch file' if launched else 'on the command line'))
 
 
 def leftovers(specs, values, argv, node_name):

@@ -1,11 +1,12 @@
 """The texts pose_ekf shows a person: its start-up line (what it listens
 to and publishes), its status (the node's ``~get_status``), the warning for
 a used sensor that never sent anything, and the error while another node
-publishes the same transform (:class:`OtherPublisherWatch` spots it). No
-rospy here.
+publishes the same transform (rbx1_nav.common.tf_publishers.OtherPublisherWatch
+spots it; imported here, where it was first). No rospy here.
 """
 import numpy as np
 
+from rbx1_nav.common.tf_publishers import OtherPublisherWatch
 from rbx1_nav.estimation.sensors import MOTION_SOURCES, SENSORS
 
 __all__ = ['state_text', 'status_text', 'listening_text', 'output_text',
@@ -126,42 +127,6 @@ def silent_sensor_text(name, topic, timeout, publishers):
     return text + ('%s publishes it but sent nothing: check that node (a '
                    'sensor not yet started? a wrong message type?)'
                    % ', '.join(sorted(publishers)))
-
-
-class OtherPublisherWatch(object):
-    """Spots another node publishing the transform this node publishes.
-
-    :meth:`seen` is called for each tf message carrying our child frame
-    from another node; it returns True when an error is due: at once for
-    a new publisher, then every ``period`` seconds while it lasts.
-    :meth:`gone` returns the publishers not heard for ``quiet`` seconds
-    (each once), so the caller can say the conflict ended.
-    """
-
-    def __init__(self, period=30.0, quiet=5.0):
-        self.period, self.quiet = float(period), float(quiet)
-        self._last_seen = {}
-        self._last_report = {}
-
-    def seen(self, caller, now):
-        self._last_seen[caller] = now
-        last = self._last_report.get(caller)
-        if last is None or now - last >= self.period or now < last:
-            self._last_report[caller] = now
-            return True
-        return False
-
-    def gone(self, now):
-        ended = [c for c, t in self._last_seen.items() if now - t > self.quiet]
-        for caller in ended:
-            del self._last_seen[caller]
-            self._last_report.pop(caller, None)
-        return ended
-
-    @property
-    def publishers(self):
-        """Other publishers heard within ``quiet`` s, in name order."""
-        return sorted(self._last_seen)
 
 
 def other_publisher_text(caller, parent, child, topic):

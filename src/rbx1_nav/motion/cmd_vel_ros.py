@@ -5,7 +5,9 @@ Under lockstep each command is on its way before the tick's report
 (a synchronous publisher), and each is counted, so the simulator steps on
 only once it has them all. Before a course, :meth:`CmdVel.wait_for_listener`
 waits for a subscriber; when none comes it names the topics that do take
-Twist commands (a remap hint).
+Twist commands (a remap hint). :meth:`CmdVel.watch_publishers` also
+listens on the topic itself, so a course notices another node driving its
+robot (rbx1_nav.common.cmd_vel_watch.OtherDriver).
 """
 import fcntl
 import io
@@ -16,6 +18,7 @@ import rospy
 from geometry_msgs.msg import Twist
 
 from rbx1_nav.common import lockstep_member_ros as lockstep
+from rbx1_nav.common.cmd_vel_watch import OtherDriver, other_driver_text
 from rbx1_nav.common.cmd_vel_watch_ros import watch_publishers
 from rbx1_nav.common.master_ros import topic_graph
 from rbx1_nav.common.publish_ros import synchronous_publisher
@@ -33,6 +36,15 @@ class CmdVel(object):
         self.pub = (synchronous_publisher('cmd_vel', Twist)
                     if member else
                     rospy.Publisher('cmd_vel', Twist, queue_size=5, tcp_nodelay=True))
+        self.own = rospy.get_name()
+        self.others = OtherDriver(self.own)
+        self.sub = None  # our own cmd_vel, heard (watch_publishers)
+
+    def _connections(self):
+        """The publisher's connections to other nodes (not to our own
+        subscriber, which hears the topic for :meth:`other_driver`)."""
+        return [c for c in list(self.pub.impl.connections)
+                if c.endpoint_id != self.own]
 
     @property
     def resolved_name(self):
@@ -55,7 +67,7 @@ class CmdVel(object):
         if self.member is not None:
             return 0
         most = 0
-        for conn in list(self.pub.impl.connections):
+        for conn in self._connections():
             queued = sum(len(data) for data in getattr(conn, '_queue', None) or ())
             sock = getattr(conn, 'socket', None)
             if sock is None:
@@ -76,8 +88,25 @@ class CmdVel(object):
 
     def watch_publishers(self, name):
         """Warn when another node publishes on this cmd_vel too
-        (rbx1_nav.common.cmd_vel_watch_ros)."""
-        watch_publishers(name, [self.pub.resolved_name], own=rospy.get_name())
+        (rbx1_nav.common.cmd_vel_watch_ros), and hear what each sends, for
+        :meth:`other_driver`."""
+        watch_publishers(name, [self.pub.resolved_name], own=self.own)
+        if self.sub is None:
+            self.sub = rospy.Subscriber(self.pub.resolved_name, Twist,
+                                        self._on_cmd_vel, queue_size=100,
+                                        tcp_nodelay=True)
+
+    def _on_cmd_vel(self, msg):
+        l, a = msg.linear, msg.angular
+        self.others.heard(msg._connection_header.get('callerid', '?'),
+                          (l.x, l.y, l.z), (a.x, a.y, a.z))
+
+    def other_driver(self):
+        """The error text when another node has commanded motion on
+        cmd_vel since :meth:`OtherDriver.arm` (``self.others``), else None."""
+        found = self.others.found
+        return None if found is None else other_driver_text(
+            self.pub.resolved_name, found)
 
     def wait_for_listener(self, wait):
         """Wait up to ``wait`` s (wall s under lockstep) for the driver to
@@ -91,13 +120,13 @@ class CmdVel(object):
             if rospy.is_shutdown():
                 raise rospy.ROSInterruptException('shutdown while waiting')
             if deadline.expired():
-                if self.pub.get_num_connections():
+                if self._connections():
                     raise CourseAborted(
                         '/lockstep is set but the node taking %s (%s) is not '
                         'granted lockstep steps on %s after %.1f s: start the '
                         'simulator with lockstep too, or set /lockstep false'
                         % (self.pub.resolved_name, ', '.join(sorted(
-                            c.endpoint_id for c in self.pub.impl.connections)),
+                            c.endpoint_id for c in self._connections())),
                            lockstep.GRANT_TOPIC, wait))
                 raise CourseAborted('nothing subscribes to %s after %.1f s: %s'
                                     % (self.pub.resolved_name, wait,
@@ -108,7 +137,7 @@ class CmdVel(object):
         """True once the driver takes cmd_vel; under lockstep, once a
         simulator that takes part in it does (it counts every command, so
         none may go out before its connection is up)."""
-        takers = {c.endpoint_id for c in self.pub.impl.connections}
+        takers = {c.endpoint_id for c in self._connections()}
         if self.member is None:
             return bool(takers)
         return bool(takers & self.member.simulators())

@@ -19,7 +19,11 @@ transform stops updating for ``~tf_timeout`` the robot is commanded zero
 and the course waits up to ``~link_grace`` more for it (a Wi-Fi dropout,
 rbx1_nav.motion.dropouts), then carries on from the pose tf gives; past that, or
 when ``/clock`` stops under simulated time, it aborts, robot stopped.
-Exit status 0 only after a completed course.
+It aborts too, robot stopped, when another node commands motion on its
+cmd_vel while it drives (rbx1_nav.common.cmd_vel_watch.OtherDriver), or when
+its transform comes from two nodes or jumps further than the robot can
+move (rbx1_nav.motion.tf_guard). Exit status 0 only after a completed
+course.
 
 Under lockstep simulated time (rbx1_nav.sim_time.lockstep) the node is a member
 while it drives: sim_clock grants it each control tick, at which the
@@ -45,6 +49,7 @@ from rbx1_nav.motion.settle import (GAVE_UP, SETTLE_PARAMS, WAITING, Settle,
                                     delivered, moved_text)
 from rbx1_nav.motion.summary import stalls_text, summary_line
 from rbx1_nav.motion.tf_follow_ros import TF_TOPIC, TfFollower
+from rbx1_nav.motion.tf_guard import TransformGuard, top_speeds
 from rbx1_nav.motion.ticks_ros import Ticks
 from rbx1_nav.motion.watchdogs_ros import (ClockWatchdog, DropoutHold,
                                            StallWarnings, TfAgeWarnings,
@@ -180,22 +185,32 @@ class MotionRunner(object):
         once: see :meth:`pause` and :meth:`leave`).
         """
         self.start()
-        wall = self.ticks.member is not None  # start-up waits: wall time
-        if self.tf.followed is None:
-            self.tf.followed = self.tf.find_base_frame(
-                self.settings['tf_wait'], wall, self.require_tf)
-        self.cmd_vel.wait_for_listener(self.settings['tf_wait'])
-        if self.settings['start_delay'] > 0.0:
-            rospy.loginfo('Starting in %.1f s', self.settings['start_delay'])
-            self.pause(self.settings['start_delay'])
+        # From here to the end another node commanding motion on our
+        # cmd_vel is a fight (rbx1_nav.common.cmd_vel_watch.OtherDriver).
+        self.cmd_vel.others.arm()
         try:
-            final = self._drive(course)
-        except BaseException:
-            self.leave()
-            raise
-        if not stay:
-            self.leave()
-        return final
+            wall = self.ticks.member is not None  # start-up waits: wall time
+            if self.tf.followed is None:
+                self.tf.followed = self.tf.find_base_frame(
+                    self.settings['tf_wait'], wall, self.require_tf)
+            self.cmd_vel.wait_for_listener(self.settings['tf_wait'])
+            if self.tf.followed is not None:
+                self.tf.guard = TransformGuard(
+                    self.tf.odom_frame, self.tf.followed, *top_speeds(course))
+            if self.settings['start_delay'] > 0.0:
+                rospy.loginfo('Starting in %.1f s', self.settings['start_delay'])
+                self.pause(self.settings['start_delay'])
+            try:
+                final = self._drive(course)
+            except BaseException:
+                self.leave()
+                raise
+            if not stay:
+                self.leave()
+            return final
+        finally:
+            self.cmd_vel.others.disarm()
+            self.tf.guard = None
 
     def pause(self, seconds):
         """Wait ``seconds`` of ROS time between courses (see Ticks.pause)."""
@@ -204,6 +219,17 @@ class MotionRunner(object):
     def leave(self):
         """Leave the lockstep after the last course (a no-op off it)."""
         self.ticks.leave()
+
+    def _check_robot_is_ours(self):
+        """CourseAborted, robot stopped, when another node drives the robot
+        or its transform is not one robot's (two publishers, a jump no
+        robot at the course's speeds makes): the course cannot end where
+        it should."""
+        problem = self.cmd_vel.other_driver() or (
+            self.tf.guard and self.tf.guard.problem)
+        if problem:
+            self.stop()
+            raise CourseAborted(problem)
 
     def _joined(self):
         """Under lockstep, once a member: the simulator whose state to wait
@@ -232,6 +258,7 @@ class MotionRunner(object):
                 start = now
             self.tick_times.append((now - start).to_sec())
             self._last_tick = now
+            self._check_robot_is_ours()
             if fresh_at is None:
                 fresh_at = now
             reading = (None if blind

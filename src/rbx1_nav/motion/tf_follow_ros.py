@@ -59,6 +59,8 @@ class TfFollower(object):
         self.followed = None  # the base frame found on tf
         self.member = member
         self.tf_topic = rospy.resolve_name(TF_TOPIC)
+        # While a course runs: its rbx1_nav.motion.tf_guard.TransformGuard.
+        self.guard = None
         self.buffer = tf2_ros.Buffer()
         self.listener = _Listener(self.buffer, self._on_tf)
         # Lockstep: the node broadcasting the followed transform, whether
@@ -71,12 +73,21 @@ class TfFollower(object):
         self.counted = None
 
     def _on_tf(self, msg):
-        """Under lockstep: count each /tf message, keeping (sender, stamp ns
-        of the followed transform in it or None) until a grant counts it."""
+        """Feed each update of the followed transform to ``guard`` (while a
+        course runs); under lockstep, count each /tf message, keeping
+        (sender, stamp ns of the followed transform in it or None) until a
+        grant counts it."""
+        followed = [t for t in msg.transforms
+                    if t.child_frame_id.lstrip('/') == self.followed]
+        guard = self.guard
+        if guard is not None:
+            for t in followed:
+                v = t.transform.translation
+                guard.heard(sender(msg), t.header.stamp.to_sec(), v.x, v.y,
+                            quat_to_angle(t.transform.rotation))
         if self.member is None:
             return
-        stamps = [to_ns(t.header.stamp) for t in msg.transforms
-                  if t.child_frame_id.lstrip('/') == self.followed]
+        stamps = [to_ns(t.header.stamp) for t in followed]
         self.member.arrived(self.tf_topic, msg,
                             (sender(msg), max(stamps) if stamps else None))
 

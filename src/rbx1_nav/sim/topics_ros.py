@@ -24,10 +24,13 @@ from rbx1_nav.sim.params import GPS_UNKNOWN_VARIANCE, MAX_CATCH_UP, WARN_PERIOD
 from rbx1_nav.sim.physics import PhysicsConfig, PhysicsFleet
 from rbx1_nav.common import lockstep_member_ros as lockstep
 from rbx1_nav.common.publish_ros import synchronous_publisher
+from rbx1_nav.common.tf_publishers import OtherPublisherWatch, robot_conflict_text
 from rbx1_nav.common.throttle import Throttle
 from rbx1_nav.transform_utils import strip_leading_slash, yaw_to_quaternion
 
 __all__ = ['RobotTopics', 'fill_odometry', 'make_fleet', 'model_config']
+
+CONFLICT_PERIOD = 30.0  # s between repeats of the second-publisher error
 
 
 def model_config(values, log_name):
@@ -147,6 +150,12 @@ class RobotTopics:
         # do, on this robot's own topics when it has a namespace.
         self.tf_pub = (publisher(topic('tf') if ns else '/tf', TFMessage, 100)
                        if values['publish_tf'] else None)
+        # A single robot (a fleet's robots each have a tf topic of their
+        # own) names any other node publishing its transform, as pose_ekf
+        # does: a second robot started with the same frames on /tf.
+        self.conflicts = OtherPublisherWatch(CONFLICT_PERIOD)
+        self.tf_sub = (rospy.Subscriber('/tf', TFMessage, self.on_tf, queue_size=100)
+                       if values['publish_tf'] and not ns else None)
         self.static_tf = rospy.Publisher(topic('tf_static') if ns else '/tf_static',
                                          TFMessage, queue_size=100, latch=True)
         world = TransformStamped()
@@ -185,6 +194,21 @@ class RobotTopics:
                           '|w| <= %g rad/s', self.log_name, msg.linear.x,
                           msg.angular.z, cfg.max_linear_speed,
                           cfg.max_angular_speed)
+
+    def on_tf(self, msg):
+        """Log (at once, then every 30 s while it lasts) another node
+        publishing this robot's transform."""
+        caller = msg._connection_header.get('callerid', '?')
+        if caller == rospy.get_name():
+            return
+        for tf in msg.transforms:
+            if tf.child_frame_id.lstrip('/') != self.base_frame:
+                continue
+            if self.conflicts.seen(caller, rospy.Time.now().to_sec()):
+                rospy.logerr('%s: %s', self.log_name, robot_conflict_text(
+                    caller, tf.header.frame_id.lstrip('/'), self.base_frame,
+                    self.tf_sub.resolved_name))
+            return
 
     def report_watchdog(self, stamp):
         """Log once each time the watchdog stops or releases the base."""

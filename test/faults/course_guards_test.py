@@ -1,0 +1,243 @@
+#!/usr/bin/env python3
+"""Courses that must not say "Course complete": each ends with exit 1, the
+robot stopped, and one line naming the cause and the fix.
+
+Run by the course_guard_*.test files beside it, each under lockstep at
+full speed with the fake robot; ``~case`` picks the fault:
+
+* ``driver``: another node (this test) publishes zeros on the course's
+  cmd_vel from before it starts (a warning only: the course drives on),
+  then, once the robot is under way, one command to move;
+* ``two_publishers``: a second fake robot in namespace robot1 with the
+  same frames on /tf (the .test starts both); the course in robot1
+  follows a transform that two nodes publish, and each fake robot names
+  the other;
+* ``jump``: the fake robot publishes no tf; this test relays its odometry
+  to tf, then adds 3 m to it once the robot is under way;
+* ``typo``: ``_goal_distnace:=0.5`` on the command line refuses to move;
+  the same typo left on the master only warns (the course runs); the
+  .test also launches a node with the typo as a ``<param>``, which
+  refuses too.
+"""
+import os
+import sys
+import threading
+import unittest
+
+import rospy
+import rostest
+import tf2_ros
+from geometry_msgs.msg import TransformStamped, Twist
+from nav_msgs.msg import Odometry
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
+from course_harness import (CourseProcess, RosoutWatch, RobotWatch,  # noqa: E402
+                            is_zero, launched_node_status, wait_sim, wait_until)
+
+#: A short course: one leg.
+SHORT = {'legs': 1, 'goal_distance': 0.5, 'tf_timeout': 5.0}
+
+
+class Commands(object):
+    """Every message on a cmd_vel with the node that sent it."""
+
+    def __init__(self, topic):
+        self.lock = threading.Lock()
+        self.heard = []  # (sender, Twist)
+        rospy.Subscriber(topic, Twist, self._on_cmd, queue_size=1000)
+
+    def _on_cmd(self, msg):
+        with self.lock:
+            self.heard.append((msg._connection_header['callerid'], msg))
+
+    def last(self):
+        with self.lock:
+            return self.heard[-1] if self.heard else (None, None)
+
+    def motion_from(self, node):
+        with self.lock:
+            return [m for who, m in self.heard if who == node and not is_zero(m)]
+
+
+class CourseGuardsTest(unittest.TestCase):
+
+    def assert_stopped_by(self, course, commands, watch):
+        """The course's own zero Twist was the robot's last command, and
+        the robot stands still by ground truth."""
+        who, last = commands.last()
+        self.assertEqual(who, course.node_name, 'last cmd_vel from %s: %s'
+                         % (who, last))
+        self.assertTrue(is_zero(last), 'last cmd_vel not a stop: %s' % last)
+        wait_sim(0.5)
+        self.assertEqual(watch.true_speed(), (0.0, 0.0), 'robot still moving')
+
+    def one_error_line(self, course, text):
+        """The course's output has exactly one line with ``text``; it."""
+        lines = [line for line in course.output.splitlines() if text in line]
+        self.assertEqual(len(lines), 1, course.output)
+        return lines[0]
+
+    def test_guard(self):
+        getattr(self, 'check_' + rospy.get_param('~case'))()
+
+    # -- another node drives the robot -------------------------------------------
+    def check_driver(self):
+        me = rospy.get_name()
+        watch = RobotWatch()
+        commands = Commands('cmd_vel')
+        intruder = rospy.Publisher('cmd_vel', Twist, queue_size=10)
+        start = watch.wait_for_truth()
+        stop_zeros = threading.Event()
+
+        def zeros():  # a teleop node at rest: zeros, ten a second
+            while not stop_zeros.is_set() and not rospy.is_shutdown():
+                intruder.publish(Twist())
+                rospy.rostime.wallsleep(0.1)
+
+        zero_thread = threading.Thread(target=zeros, daemon=True)
+        zero_thread.start()
+        rospy.rostime.wallsleep(1.0)  # registered before the course looks
+        course = CourseProcess(params=SHORT)
+        try:
+            self.assertTrue(wait_until(lambda: watch.moved_since(start) > 0.1
+                                       or not course.running()), course.output)
+            stop_zeros.set()
+            zero_thread.join()
+            self.assertTrue(course.running(), 'zeros ended the course:\n'
+                            + course.output)
+            move = Twist()
+            move.linear.x = 0.1
+            intruder.publish(move)
+            status = course.wait()
+        finally:
+            stop_zeros.set()
+            course.cleanup()
+        out = course.output
+        line = self.one_error_line(course, 'commanded the robot on')
+        print('RESULT driver exit=%d: %s' % (status, line))
+        self.assertEqual(status, 1, out)
+        self.assertIn('%s also publishes on /cmd_vel' % me, out)  # the warning
+        self.assertIn('%s commanded the robot on /cmd_vel (0.1 m/s, 0 rad/s) '
+                      'while this course drove it' % me, line)
+        self.assertIn('Stopped the robot. Fix: stop the other node (rosnode '
+                      'kill %s) or remap' % me, line)
+        self.assertNotIn('Course complete', out)
+        self.assertTrue(commands.motion_from(course.node_name), 'never drove')
+        self.assert_stopped_by(course, commands, watch)
+
+    # -- two robots, one transform -------------------------------------------------
+    def check_two_publishers(self):
+        rosout = RosoutWatch()
+        watch = RobotWatch('robot1')
+        commands = Commands('robot1/cmd_vel')
+        watch.wait_for_truth()
+        course = CourseProcess(ns='robot1', params=SHORT)
+        try:
+            status = course.wait()
+        finally:
+            course.cleanup()
+        out = course.output
+        line = self.one_error_line(course, 'comes from two nodes')
+        print('RESULT two_publishers exit=%d: %s' % (status, line))
+        self.assertEqual(status, 1, out)
+        self.assertIn('tf odom -> base_footprint comes from two nodes, ', line)
+        self.assertIn('/fake_turtlebot', line)
+        self.assertIn('/robot1/fake_turtlebot', line)
+        self.assertIn('Stopped the robot. Fix: give each robot its own frames '
+                      '(e.g. _odom_frame:=robot1/odom', line)
+        self.assertIn('/tf:=tf /tf_static:=tf_static', line)
+        self.assertNotIn('Course complete', out)
+        self.assert_stopped_by(course, commands, watch)
+        # Each fake robot names the other (repeated every 30 simulated s).
+        for robot, other in (('/fake_turtlebot', '/robot1/fake_turtlebot'),
+                             ('/robot1/fake_turtlebot', '/fake_turtlebot')):
+            self.assertTrue(wait_until(lambda: rosout.find(
+                robot, 'node %s also publishes the transform odom -> '
+                'base_footprint on /tf' % other), wall_limit=30.0),
+                '%s did not name %s' % (robot, other))
+
+    # -- a jump no robot makes -----------------------------------------------------
+    def check_jump(self):
+        watch = RobotWatch()
+        commands = Commands('cmd_vel')
+        broadcaster = tf2_ros.TransformBroadcaster()
+        offset = [0.0]
+
+        def relay(msg):  # the odometry on tf, as a driver publishes it
+            tf = TransformStamped()
+            tf.header = msg.header
+            tf.child_frame_id = msg.child_frame_id
+            tf.transform.translation.x = msg.pose.pose.position.x + offset[0]
+            tf.transform.translation.y = msg.pose.pose.position.y
+            tf.transform.rotation = msg.pose.pose.orientation
+            broadcaster.sendTransform(tf)
+
+        rospy.Subscriber('odom', Odometry, relay, queue_size=100)
+        start = watch.wait_for_truth()
+        course = CourseProcess(params=SHORT)
+        try:
+            self.assertTrue(wait_until(lambda: watch.moved_since(start) > 0.1
+                                       or not course.running()), course.output)
+            self.assertTrue(course.running(), course.output)
+            offset[0] = 3.0
+            status = course.wait()
+        finally:
+            course.cleanup()
+        out = course.output
+        line = self.one_error_line(course, 'faster than the robot can')
+        print('RESULT jump exit=%d: %s' % (status, line))
+        self.assertEqual(status, 1, out)
+        # 3 m between two updates 0.02 to 0.05 s apart (the relay's).
+        self.assertRegex(line, r'tf odom -> base_footprint moved 3\.\d{3} m in '
+                         r'0\.0\d s \(limit 0\.\d{3} m\), faster than the robot '
+                         r'can at this course')
+        self.assertIn("odometry reset (a restarted driver)? Stopped the robot. "
+                      "Fix: give each robot its own frames", line)
+        self.assertNotIn('Course complete', out)
+        self.assert_stopped_by(course, commands, watch)
+
+    # -- a typo ----------------------------------------------------------------------
+    def check_typo(self):
+        watch = RobotWatch()
+        commands = Commands('cmd_vel')
+        start = watch.wait_for_truth()
+        course = CourseProcess(params=dict(SHORT, goal_distnace=0.2))
+        try:
+            status = course.wait()
+        finally:
+            course.cleanup()
+        out = course.output
+        line = self.one_error_line(course, 'unknown parameter')
+        print('RESULT typo exit=%d: %s' % (status, line))
+        self.assertEqual(status, 1, out)
+        self.assertIn('unknown parameter ~goal_distnace (did you mean '
+                      '~goal_distance?) on the command line; not starting', line)
+        self.assertEqual(commands.motion_from(course.node_name), [])
+        self.assertLess(watch.moved_since(start), 1e-9)
+        self.assertEqual(watch.true_speed(), (0.0, 0.0))
+
+        # The launch file's <param> typo (launched by the .test): refused.
+        launched, log = launched_node_status('odom_out_and_back_typo')
+        print('RESULT typo in a launch file: exit %s' % launched)
+        self.assertEqual(launched, 1, log)
+        self.assertIn('unknown parameter ~goal_distnace (did you mean '
+                      '~goal_distance?) in the launch file; not starting', log)
+
+        # Left on the master by an earlier run, not on this command line:
+        # a warning, and the course runs (a short one).
+        leftover = CourseProcess(name='leftover', leftovers={'goal_distnace': 0.2},
+                                 params=dict(SHORT, goal_distance=0.1, goal_angle=0.3))
+        try:
+            status = leftover.wait()
+        finally:
+            leftover.cleanup()
+        print('RESULT typo left on the master: exit %d' % status)
+        self.assertEqual(status, 0, leftover.output)
+        self.assertIn('unknown parameter ~goal_distnace is ignored (did you mean '
+                      '~goal_distance?)', leftover.output)
+        self.assertIn('Course complete', leftover.output)
+
+
+if __name__ == '__main__':
+    rospy.init_node('course_guards_test')
+    rostest.rosrun('rbx1_nav', 'course_guards', CourseGuardsTest)
