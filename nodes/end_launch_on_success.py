@@ -11,11 +11,17 @@ even after a successful course. As a node's launch-prefix:
 A node that fails (non-zero status) still ends a launch with the red block
 naming its exit code. Under rostest, or with other wrapped nodes of the
 launch still running (a fleet's courses), the wrapper exits with the
-node's status and leaves the launch alone. See rbx1_nav.common.launch_end.
+node's status and leaves the launch alone.
+
+Under roslaunch, once the node has ended it also removes the node's
+private parameters from the master (a later rosrun of it starts fresh) and,
+in a launch started by launch_status.py, records the node's status for it.
+See rbx1_nav.common.launch_end.
 """
 import sys
 
 from rbx1_nav.common.launch_end import run
+from rbx1_nav.common.launch_end_ros import forget_params
 
 if __name__ == '__main__':
-    sys.exit(run(sys.argv[1:], __doc__))
+    sys.exit(run(sys.argv[1:], __doc__, forget=forget_params))

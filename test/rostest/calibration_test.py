@@ -10,8 +10,13 @@ ground_truth as the tape measure; its printed correction must be within
 out-and-back course in precise mode runs on the uncorrected robot and on a
 fresh robot with both corrections set; with them, the course must end
 ~improvement times closer to its start (ground truth).
+
+A negative measurement given with dynparam (which exits 0 whatever the node
+makes of it) is refused by the node with a warning naming the value, and
+the field goes back to 0.
 """
 import os
+import subprocess
 import sys
 import unittest
 
@@ -20,8 +25,8 @@ import rostest
 import yaml
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
-from course_harness import (FakeRobot, RobotWatch,  # noqa: E402
-                            calibrate, course_end_error)
+from course_harness import (CourseProcess, FakeRobot, RobotWatch,  # noqa: E402
+                            calibrate, course_end_error, wait_until)
 
 
 class CalibrationTest(unittest.TestCase):
@@ -58,6 +63,32 @@ class CalibrationTest(unittest.TestCase):
     def course_error(self):
         """Ground-truth (m, deg) from start to end of a precise course."""
         return course_end_error(self, self.watch, precise='true')
+
+    def test_a_negative_measurement_is_refused_aloud(self):
+        for kind, value in (('linear', '-1'), ('angular', '-352')):
+            field = 'measured_distance' if kind == 'linear' else 'measured_angle'
+            node = CourseProcess(script='calibrate_%s.py' % kind)
+            try:
+                self.assertTrue(wait_until(lambda: 'ready' in node.output,
+                                           wall_limit=60.0), node.output)
+                name = node.node_name
+                dynparam = subprocess.run(
+                    ['rosrun', 'dynamic_reconfigure', 'dynparam', 'set', name,
+                     field, value], stdout=subprocess.PIPE,
+                    stderr=subprocess.STDOUT, universal_newlines=True, timeout=60)
+                self.assertEqual(dynparam.returncode, 0, dynparam.stdout)
+                line = '%s %s refused: ' % (field, float(value))
+                self.assertTrue(wait_until(lambda: line in node.output,
+                                           wall_limit=30.0), node.output)
+                print('RESULT %s' % [l for l in node.lines if line in l][0])
+                self.assertTrue(wait_until(
+                    lambda: rospy.get_param(name + '/' + field) == 0.0,
+                    wall_limit=10.0), 'the field was not set back to 0')
+                self.assertNotIn('measured / odometry', node.output)
+                node.interrupt()
+                self.assertEqual(node.wait(), 0, node.output)
+            finally:
+                node.cleanup()
 
     def test_calibrations_find_the_scale_errors_and_fix_the_course(self):
         self.start_robot()

@@ -50,3 +50,34 @@ def test_the_wrapper_passes_the_nodes_status_and_leaves_a_non_roslaunch_parent_a
     assert run(['false'], 'doc') == 1
     assert run([], 'the doc\n') == 2
     assert capsys.readouterr().out == 'the doc\n'
+
+
+def test_statuses_recorded_are_read_back_in_order(tmp_path):
+    from rbx1_nav.common.launch_end import read_statuses, record_status
+    record_status(str(tmp_path), 'robot1/odom_out_and_back', 0)
+    assert read_statuses(str(tmp_path)) == [(0, 'robot1/odom_out_and_back')]
+    (tmp_path / 'junk.status').write_text('not a status')
+    assert read_statuses(str(tmp_path)) == [(0, 'robot1/odom_out_and_back')]
+
+
+def test_the_launch_status_is_the_first_failed_course_else_roslaunchs():
+    from rbx1_nav.common.launch_end import launch_status
+    assert launch_status([(0, 'nav_square')], 0) == (
+        0, 'launch_status: nav_square exited 0')
+    status, line = launch_status([(0, 'robot1/c'), (1, 'robot2/c'), (130, 'robot3/c')], 0)
+    assert status == 1 and line == 'launch_status: robot2/c exited 1; exiting 1'
+    assert launch_status([], 1)[0] == 1
+    assert launch_status([], 0) == (0, 'launch_status: roslaunch exited 0 '
+                                       '(no course in the launch)')
+
+
+def test_forget_is_called_only_under_roslaunch():
+    forgotten = []
+    assert run(['true'], 'doc', forget=forgotten.append) == 0
+    assert forgotten == []  # pytest is not roslaunch
+
+
+def test_launch_status_without_arguments_prints_its_help(capsys):
+    from rbx1_nav.common.launch_end import run_launch
+    assert run_launch([], 'the doc\n') == 2
+    assert capsys.readouterr().out == 'the doc\n'

@@ -8,7 +8,7 @@ import pytest
 from ideal_robot import IdealRobot, run
 from rbx1_nav.calibration.scale import (ANGULAR, LINEAR, USUAL, PoseTrack,
                                         correction, course, far_from_one, measure,
-                                        report)
+                                        measured_refusal, report)
 from rbx1_nav.sim.diff_drive import DiffDriveConfig
 from rbx1_nav.transform_utils import Pose2D, normalize_angle
 
@@ -181,3 +181,18 @@ def test_the_config_fields_and_the_driver_take_factors_far_from_one(factor):
         'odom_angular_scale_correction': factor,
         'wheel_separation_multiplier': factor})
     assert config.problems() == []
+
+
+@pytest.mark.parametrize('kind, value', [(LINEAR, -1.0), (LINEAR, float('nan')),
+                                         (ANGULAR, -352.0), (ANGULAR, float('inf'))])
+def test_a_measurement_that_is_not_positive_is_refused_naming_it(kind, value):
+    line = measured_refusal(kind, value, '/calibrate_' + kind.name)
+    assert line.startswith('%s %r refused: ' % (kind.measured, value))
+    assert 'must be a positive number of %s' % kind.unit_name in line
+    assert ('dynparam set /calibrate_%s %s ' % (kind.name, kind.measured)) in line
+
+
+@pytest.mark.parametrize('kind, value', [(LINEAR, 0.97), (LINEAR, 1e-6),
+                                         (ANGULAR, 352.0), (ANGULAR, 4000.0)])
+def test_a_positive_measurement_is_not_refused(kind, value):
+    assert measured_refusal(kind, value, '/n') is None

@@ -22,7 +22,8 @@ from rbx1_nav.motion.steps import Drive, Pause, Turn
 from rbx1_nav.transform_utils import normalize_angle
 
 __all__ = ['Kind', 'LINEAR', 'ANGULAR', 'PoseTrack', 'course', 'measure',
-           'correction', 'report', 'far_from_one', 'USUAL', 'MAX_RATIO']
+           'correction', 'report', 'far_from_one', 'measured_refusal',
+           'USUAL', 'MAX_RATIO']
 
 Kind = namedtuple('Kind', 'name goal measured correction unit speed_unit '
                          'quantity unit_name moved causes')
@@ -132,6 +133,23 @@ def correction(kind, odometry, measured):
             'or the measurement is wrong' % (odometry, kind.unit, MAX_RATIO,
                                              kind.quantity, measured, kind.unit))
     return ratio
+
+
+def measured_refusal(kind, value, node):
+    """None for a usable ``measured_*`` value (a positive finite number);
+    otherwise the warning that refuses it, naming the value, why, and the
+    command to give it again (``node``: the calibration node's name).
+    0 means "not measured yet" and is never passed here."""
+    if (isinstance(value, (int, float)) and not isinstance(value, bool)
+            and math.isfinite(value) and value > 0.0):
+        return None
+    example = '0.97' if kind is LINEAR else '352'
+    return ('%s %r refused: the %s the robot really %s must be a positive '
+            'number of %s (0 means not measured yet); nothing computed, the '
+            'field is back at 0. Give the measurement: rosrun '
+            'dynamic_reconfigure dynparam set %s %s %s'
+            % (kind.measured, value, kind.quantity, kind.moved, kind.unit_name,
+               node, kind.measured, example))
 
 
 def far_from_one(kind, factor):

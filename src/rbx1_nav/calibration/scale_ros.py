@@ -47,8 +47,14 @@ def config_params(config_type):
             specs.append(param(name, field['default'], params.flag, '',
                                field['description']))
         else:
+            # A measured_* field lets dynamic_reconfigure pass a negative
+            # value on, for the node to refuse aloud (its minimum would
+            # clamp it to 0, "not measured", in silence); at start-up it is
+            # not a measurement yet, and must be 0 or more.
+            minimum = (max(field['min'], 0.0) if name.startswith('measured_')
+                       else field['min'])
             specs.append(param(name, field['default'], params.number, '',
-                               field['description'], minimum=field['min'],
+                               field['description'], minimum=minimum,
                                maximum=field['max']))
     return tuple(specs)
 
@@ -98,8 +104,8 @@ class CalibrationNode(object):
                     if rospy.core.is_shutdown_requested():
                         break  # Ctrl-C after the test: the robot is stopped
                     raise
-            elif measured > 0.0:
-                self.report(measured, 'measured on the floor')
+            elif measured != 0.0:  # NaN too
+                self.given(measured)
             try:
                 poll.sleep()
             except rospy.ROSInterruptException:
@@ -132,6 +138,16 @@ class CalibrationNode(object):
                 '(%s): rosrun dynamic_reconfigure dynparam set %s %s VALUE',
                 self.name, kind.quantity, kind.moved, kind.unit_name,
                 rospy.get_name(), kind.measured)
+
+    def given(self, measured):
+        """A ``measured_*`` value from reconfigure: refused with a warning
+        (and the field set back to 0) unless a positive number."""
+        refusal = scale.measured_refusal(self.kind, measured, rospy.get_name())
+        if refusal:
+            rospy.logwarn('%s: %s', self.name, refusal)
+            self.server.update_configuration({self.kind.measured: 0.0})
+            return
+        self.report(measured, 'measured on the floor')
 
     def report(self, measured, source):
         if self.odometry is None:

@@ -10,15 +10,29 @@ without the block. Only a roslaunch parent gets the signal (rostest, which
 runs the same launch files, reports a required node's end its own way),
 and only once no other wrapped node of the same launch is still running
 (a fleet's courses end the launch when the last one is done).
+
+Under roslaunch the wrapper also, once its node has ended (any status):
+removes the node's private parameters from the master (``forget``), so
+that the values the launch gave it (a scaled ~start_delay, precise:=true)
+do not stay behind for a later rosrun of the same node; and, when
+nodes/launch_status.py started the launch, writes the node's status where
+that program finds it: roslaunch exits 0 even when a required node failed,
+launch_status.py exits with the course's status (:func:`launch_status`).
 """
 import os
 import signal
 import subprocess
+import tempfile
 import time
 
-__all__ = ['is_roslaunch', 'others_running', 'processes', 'node_name', 'run']
+__all__ = ['is_roslaunch', 'others_running', 'processes', 'node_name', 'run',
+           'record_status', 'read_statuses', 'launch_status', 'run_launch',
+           'STATUS_DIR']
 
 SCRIPT = 'end_launch_on_success.py'
+#: The environment variable that tells wrapped nodes where to record their
+#: exit status (set by :func:`run_launch`).
+STATUS_DIR = 'RBX1_NAV_STATUS_DIR'
 
 
 def is_roslaunch(argv):
@@ -71,9 +85,82 @@ def node_name(argv, namespace=''):
     return '/'.join(part for part in (namespace.strip('/'), name) if part)
 
 
-def run(argv, doc):
+def record_status(directory, name, status):
+    """Note that node ``name`` ended with ``status``, in ``directory``
+    (one file per wrapper; :func:`read_statuses` reads them)."""
+    path = os.path.join(directory, '%d.status' % os.getpid())
+    with open(path + '.tmp', 'w') as f:
+        f.write('%d %s\n' % (status, name))
+    os.rename(path + '.tmp', path)
+
+
+def read_statuses(directory):
+    """[(status, node name)] of the wrapped nodes that ended, in the order
+    they ended."""
+    found = []
+    for entry in os.listdir(directory):
+        if not entry.endswith('.status'):
+            continue
+        path = os.path.join(directory, entry)
+        try:
+            with open(path) as f:
+                status, name = f.read().split(None, 1)
+            found.append((os.path.getmtime(path), int(status), name.strip()))
+        except (OSError, ValueError):
+            continue
+    return [(status, name) for _, status, name in sorted(found)]
+
+
+def launch_status(statuses, roslaunch_status):
+    """(exit status, line) of a launch run by launch_status.py: the first
+    course (wrapped node) to fail, else roslaunch's own failure, else 0.
+    ``statuses`` as from :func:`read_statuses`."""
+    failed = [(status, name) for status, name in statuses if status != 0]
+    if failed:
+        status, name = failed[0]
+        return status, ('launch_status: %s exited %d; exiting %d'
+                        % (name, status, status))
+    if roslaunch_status != 0:
+        return roslaunch_status, ('launch_status: roslaunch exited %d'
+                                  % roslaunch_status)
+    if statuses:
+        return 0, ('launch_status: %s exited 0'
+                   % ', '.join(name for _, name in statuses))
+    return 0, 'launch_status: roslaunch exited 0 (no course in the launch)'
+
+
+def run_launch(args, doc):
+    """nodes/launch_status.py: ``roslaunch args``, then exit with the
+    status of :func:`launch_status`. Ctrl-C reaches roslaunch (the same
+    terminal); this process only waits for it."""
+    if not args or args[0] in ('-h', '--help'):
+        print(doc.strip())
+        return 0 if args else 2
+    directory = tempfile.mkdtemp(prefix='rbx1_nav_status_')
+    try:
+        env = dict(os.environ, **{STATUS_DIR: directory})
+        launch = subprocess.Popen(['roslaunch'] + list(args), env=env)
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        signal.signal(signal.SIGTERM,
+                      lambda signum, frame: launch.send_signal(signum))
+        roslaunch_status = launch.wait()
+        if roslaunch_status < 0:
+            roslaunch_status = 128 - roslaunch_status
+        status, line = launch_status(read_statuses(directory), roslaunch_status)
+    finally:
+        for entry in os.listdir(directory):
+            os.unlink(os.path.join(directory, entry))
+        os.rmdir(directory)
+    print(line, flush=True)
+    return status
+
+
+def run(argv, doc, forget=None):
     """Run the node ``argv``; once it exits 0, end the roslaunch that
-    started it as Ctrl-C does (see the module docstring). Its exit status."""
+    started it as Ctrl-C does (see the module docstring). Its exit status.
+
+    ``forget(name)``, under roslaunch, removes the ended node's private
+    parameters (the global name ``name``) from the master."""
     if not argv or argv[0] in ('-h', '--help'):
         print(doc.strip())
         return 0 if argv else 2
@@ -86,18 +173,27 @@ def run(argv, doc):
     for signum in (signal.SIGINT, signal.SIGTERM):
         signal.signal(signum, forward)
     status = node.wait()
-    if status != 0 or signalled:  # failed, or stopped by Ctrl-C / roslaunch
-        return status if status >= 0 else 128 - status
+    if status < 0:
+        status = 128 - status
     parent = os.getppid()
     procs = processes()
-    if (parent not in procs or not is_roslaunch(procs[parent][1])
-            or others_running(os.getpid(), procs)):
+    under_roslaunch = parent in procs and is_roslaunch(procs[parent][1])
+    name = node_name(argv, os.environ.get('ROS_NAMESPACE', ''))
+    if under_roslaunch:
+        if forget:
+            forget('/' + name)
+        if os.environ.get(STATUS_DIR):
+            try:
+                record_status(os.environ[STATUS_DIR], name, status)
+            except OSError:
+                pass
+    if status != 0 or signalled:  # failed, or stopped by Ctrl-C / roslaunch
+        return status
+    if not under_roslaunch or others_running(os.getpid(), procs):
         return 0
     for signum in (signal.SIGINT, signal.SIGTERM):
         signal.signal(signum, lambda signum, frame: os._exit(0))
-    print('[%s] finished cleanly: ending the launch'
-          % node_name(argv, os.environ.get('ROS_NAMESPACE', '')),
-          flush=True)
+    print('[%s] finished cleanly: ending the launch' % name, flush=True)
     os.kill(parent, signal.SIGINT)
     # roslaunch stops its nodes, this one among them; should it be gone
     # without doing so, end anyway.

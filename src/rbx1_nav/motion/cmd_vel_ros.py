@@ -109,13 +109,12 @@ class CmdVel(object):
             self.pub.resolved_name, found)
 
     def wait_for_listener(self, wait):
-        """Wait up to ``wait`` s (wall s under lockstep) for the driver to
-        subscribe to cmd_vel.
+        """Wait up to ``wait`` wall s for the driver to subscribe to cmd_vel.
 
         Commands published before the connection is made are lost, which
         would shorten the first move of an open-loop course.
         """
-        deadline = Deadline(wait, wall=self.member is not None)
+        deadline = Deadline(wait, wall=True)
         while not self._listening():
             if rospy.is_shutdown():
                 raise rospy.ROSInterruptException('shutdown while waiting')

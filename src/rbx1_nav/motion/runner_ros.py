@@ -29,8 +29,10 @@ Under lockstep simulated time (rbx1_nav.sim_time.lockstep) the node is a member
 while it drives: sim_clock grants it each control tick, at which the
 simulator has published its state, and time waits for the tick's command;
 the start-up waits for the clock, the transform and a cmd_vel subscriber
-(~tf_wait) count wall seconds, since they wait for other processes rather
-than for the robot.
+(~tf_wait) count wall seconds, at any simulation speed, lockstep or not:
+they wait for other processes rather than for the robot, so a launch file
+need not scale them with its sim_speed (and leave scaled values behind on
+the master for a later rosrun).
 """
 import threading
 
@@ -189,10 +191,9 @@ class MotionRunner(object):
         # cmd_vel is a fight (rbx1_nav.common.cmd_vel_watch.OtherDriver).
         self.cmd_vel.others.arm()
         try:
-            wall = self.ticks.member is not None  # start-up waits: wall time
-            if self.tf.followed is None:
+            if self.tf.followed is None:  # start-up waits: wall time
                 self.tf.followed = self.tf.find_base_frame(
-                    self.settings['tf_wait'], wall, self.require_tf)
+                    self.settings['tf_wait'], True, self.require_tf)
             self.cmd_vel.wait_for_listener(self.settings['tf_wait'])
             if self.tf.followed is not None:
                 self.tf.guard = TransformGuard(

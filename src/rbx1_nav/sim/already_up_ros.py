@@ -1,0 +1,104 @@
+"""Look before registering: is a node of this name already running?
+(the logic and lines: rbx1_nav.sim.already_up).
+
+The master shuts a node down when another registers under its name, so
+these checks run before ``rospy.init_node``, through the master's XML-RPC
+API only, each call with a socket timeout: a name counts as taken when
+its node answers; a registration left by a killed node does not answer
+and does not count.
+"""
+import os
+import signal
+import sys
+import xmlrpc.client
+
+import rosgraph
+
+from rbx1_nav.common import launch_end
+from rbx1_nav.sim.already_up import refusal_text, resolved_name, skip_text
+
+__all__ = ['running_pid', 'refuse_if_running', 'exec_unless_running']
+
+CALLER = '/rbx1_nav_already_up'
+TIMEOUT = 2.0  # s, socket timeout of a call to a node
+
+
+class _TimeoutTransport(xmlrpc.client.Transport):
+    def make_connection(self, host):
+        connection = super(_TimeoutTransport, self).make_connection(host)
+        connection.timeout = TIMEOUT
+        return connection
+
+
+def _call(uri, method, *args):
+    """The value of the XML-RPC call ``method(CALLER, *args)`` at ``uri``;
+    None if it fails or does not answer within TIMEOUT."""
+    try:
+        code, _, value = getattr(xmlrpc.client.ServerProxy(
+            uri, transport=_TimeoutTransport()), method)(CALLER, *args)
+    except (OSError, xmlrpc.client.Error, ValueError):
+        return None
+    return value if code == 1 else None
+
+
+def running_pid(name, master_uri=None):
+    """The process id of the running node registered as ``name``, or None."""
+    uri = _call(master_uri or rosgraph.get_master_uri(), 'lookupNode', name)
+    return None if uri is None else _call(uri, 'getPid')
+
+
+def _clock_running(master_uri):
+    """True if a running node publishes /clock; None if the master does
+    not answer."""
+    state = _call(master_uri, 'getSystemState')
+    if state is None:
+        return None
+    for topic, nodes in state[0]:
+        if topic == '/clock':
+            return any(running_pid(node, master_uri) is not None
+                       for node in nodes)
+    return False
+
+
+def refuse_if_running(default, argv=None, environ=None):
+    """If this node's name (``default``, or its ``__name:=``) is held by a
+    running node: print the refusal, put back /use_sim_time as the running
+    graph needs it (this launch has just set it), end this roslaunch the
+    way Ctrl-C does, and return True. Otherwise False."""
+    argv = sys.argv if argv is None else argv
+    environ = os.environ if environ is None else environ
+    if {'-h', '--help'} & set(argv[1:]):
+        return False
+    name = resolved_name(argv, environ.get('ROS_NAMESPACE', ''), default)
+    master_uri = rosgraph.get_master_uri()
+    pid = running_pid(name, master_uri)
+    if pid is None or pid == os.getpid():
+        return False
+    print('[ERROR] %s: %s' % (default, refusal_text(name, pid)), flush=True)
+    clock = _clock_running(master_uri)
+    if clock is not None:
+        _call(master_uri, 'setParam', '/use_sim_time', clock)
+    procs = launch_end.processes()
+    parent = os.getppid()
+    if parent in procs and launch_end.is_roslaunch(procs[parent][1]):
+        # roslaunch's SIGINT back to this process as it ends: this node is
+        # on its way out already.
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        os.kill(parent, signal.SIGINT)
+    return True
+
+
+def exec_unless_running(argv, environ=None):
+    """nodes/unless_running.py: run the node ``argv`` (exec, so roslaunch's
+    signals reach it) unless a running node holds its name; then print why
+    not and return 0."""
+    if not argv or argv[0] in ('-h', '--help'):
+        return None
+    environ = os.environ if environ is None else environ
+    name = resolved_name(argv, environ.get('ROS_NAMESPACE', ''),
+                         os.path.basename(argv[0]))
+    pid = running_pid(name)
+    if pid is not None:
+        print('[WARN] %s' % skip_text(name, pid), flush=True)
+        return 0
+    os.execvp(argv[0], argv)

@@ -1,0 +1,74 @@
+"""A launch's end, as a script sees it.
+
+launch_status.py exits with the course's status (roslaunch exits 0 even
+when a required course failed), and a course's launch leaves none of its
+parameters behind: a plain rosrun afterwards runs with its defaults (a
+launch with sim_speed:=5 record:=true once left start_delay 10 s and
+tf_wait 25 s, and the next rosrun waited 10 s before moving). The courses
+here run under lockstep simulated time (rbx1_nav.common.launch_end)."""
+import os
+import signal
+import sys
+
+import pytest
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import test_second_robot  # noqa: E402
+
+Graph = test_second_robot.Graph
+pytestmark = test_second_robot.pytestmark
+
+#: Wall seconds for a launch with a course to end: a liveness limit on a
+#: loaded machine, not a speed.
+LAUNCH_LIMIT = 180
+
+
+@pytest.fixture
+def graph(tmp_path):
+    g = Graph(tmp_path)
+    yield g
+    g.close()
+
+
+def launch_status(graph, *args):
+    return graph.run(['rosrun', 'rbx1_nav', 'launch_status.py', 'rbx1_nav'] + list(args),
+                     timeout=LAUNCH_LIMIT)
+
+
+def test_launch_status_exits_with_the_courses_status(graph):
+    done = launch_status(graph, 'nav_square.launch', 'sim:=true', 'sim_speed:=max')
+    assert done.returncode == 0, done.stdout[-4000:]
+    assert 'Course complete' in done.stdout
+    assert done.stdout.rstrip().endswith('launch_status: nav_square exited 0'), done.stdout[-2000:]
+
+    # No robot: the course gives up after ~tf_wait (5 wall s) and exits 1;
+    # roslaunch alone would exit 0.
+    failed = launch_status(graph, 'odom_out_and_back.launch')
+    assert failed.returncode == 1, failed.stdout[-4000:]
+    assert failed.stdout.rstrip().endswith(
+        'launch_status: odom_out_and_back exited 1; exiting 1'), failed.stdout[-2000:]
+    plain = graph.run(['roslaunch', 'rbx1_nav', 'odom_out_and_back.launch'],
+                      timeout=LAUNCH_LIMIT)
+    assert plain.returncode == 0 and 'REQUIRED process' in plain.stdout  # why it exists
+
+
+def test_a_later_rosrun_runs_with_its_defaults(graph, tmp_path):
+    done = launch_status(graph, 'odom_out_and_back_sim.launch', 'sim_speed:=5',
+                         'record:=true', 'bag:=%s' % (tmp_path / 'course.bag'))
+    assert done.returncode == 0, done.stdout[-4000:]
+    assert 'start_delay 10 s' in done.stdout  # the launch did set it
+    names = graph.run(['rosparam', 'list']).stdout.split()
+    assert not [n for n in names if n.startswith('/odom_out_and_back/')], names
+
+    graph.start(['roslaunch', 'rbx1_nav', 'fake_turtlebot.launch'], 'robot')
+    graph.wait_for(lambda: '/fake_turtlebot' in graph.nodes(), 'robot')
+    course = graph.start(['rosrun', 'rbx1_nav', 'odom_out_and_back.py'], 'course')
+    graph.wait_for(lambda: 'leg 1' in graph.output('course')
+                   or course.poll() is not None, 'the course under way', limit=60)
+    os.killpg(course.pid, signal.SIGINT)
+    course.wait(30)
+    out = graph.output('course')
+    print(out)
+    assert 'leg 1' in out, out
+    assert 'start_delay 0 s' in out and 'tf_wait 5 s' in out, out
+    assert 'Starting in' not in out and 'from the parameter server' not in out, out

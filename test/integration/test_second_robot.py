@@ -1,0 +1,137 @@
+"""The fake robot started a second time, as the README's lines invite
+(fake_turtlebot.launch, then a course's launch with sim:=true): the second
+launch says a robot is already up and ends; the first robot, its
+robot_state_publisher among its nodes, goes on, unmoved, and still drives.
+
+Each test starts its own roscore on a free port and kills every process it
+started (rbx1_nav.sim.already_up)."""
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import time
+
+import pytest
+
+pytestmark = pytest.mark.skipif(
+    not shutil.which('roslaunch') or 'ROS_PACKAGE_PATH' not in os.environ,
+    reason='needs a sourced ROS workspace (make test sources one)')
+
+PORTS = range(11472, 11490)
+LINE = 'a fake robot is already running as /fake_turtlebot'
+#: Wall seconds for a launch to start or end: a liveness limit on a loaded
+#: machine, not a speed.
+START_LIMIT = 30.0
+END_LIMIT = 30.0
+
+
+def free_port():
+    for port in PORTS:
+        with socket.socket() as s:
+            try:
+                s.bind(('', port))
+            except OSError:
+                continue
+            return port
+    pytest.skip('no free port in %d-%d' % (PORTS[0], PORTS[-1]))
+
+
+class Graph(object):
+    def __init__(self, tmp_path):
+        port = free_port()
+        self.env = dict(os.environ, ROS_MASTER_URI='http://localhost:%d' % port,
+                        ROS_LOG_DIR=str(tmp_path), PYTHONUNBUFFERED='1')
+        self.procs = []
+        self.tmp = tmp_path
+        self.start(['roscore', '-p', str(port)], 'roscore')
+        self.wait_for(lambda: self.run(['rosparam', 'get', '/run_id']).returncode == 0,
+                      'roscore')
+
+    def start(self, cmd, log):
+        out = open(str(self.tmp / (log + '.log')), 'w')
+        proc = subprocess.Popen(cmd, env=self.env, stdout=out,
+                                stderr=subprocess.STDOUT, start_new_session=True)
+        self.procs.append(proc)
+        return proc
+
+    def output(self, log):
+        with open(str(self.tmp / (log + '.log'))) as f:
+            return f.read()
+
+    def run(self, cmd, timeout=20):
+        return subprocess.run(cmd, env=self.env, stdout=subprocess.PIPE,
+                              stderr=subprocess.STDOUT,
+                              universal_newlines=True, timeout=timeout)
+
+    def wait_for(self, ready, what, limit=START_LIMIT):
+        deadline = time.monotonic() + limit
+        while not ready():
+            assert time.monotonic() < deadline, 'no %s after %.0f s' % (what, limit)
+            time.sleep(0.5)
+
+    def nodes(self):
+        return set(self.run(['rosnode', 'list']).stdout.split())
+
+    def node_pid(self, name):
+        info = self.run(['rosnode', 'info', '-q', name]).stdout
+        for line in info.splitlines():
+            if line.strip().startswith('Pid:'):
+                return int(line.split()[-1])
+        return None
+
+    def odom_x(self, topic='/ground_truth'):
+        out = self.run(['rostopic', 'echo', '-n', '1', topic + '/pose/pose/position/x']).stdout
+        return float(out.split()[0])
+
+    def close(self):
+        for proc in reversed(self.procs):
+            if proc.poll() is None:
+                os.killpg(proc.pid, signal.SIGINT)
+        for proc in reversed(self.procs):
+            try:
+                proc.wait(15)
+            except subprocess.TimeoutExpired:
+                os.killpg(proc.pid, signal.SIGKILL)
+                proc.wait()
+
+
+@pytest.fixture
+def graph(tmp_path):
+    g = Graph(tmp_path)
+    yield g
+    g.close()
+
+
+@pytest.mark.parametrize('second', [
+    ['roslaunch', 'rbx1_nav', 'nav_square.launch', 'sim:=true'],
+    ['roslaunch', 'rbx1_nav', 'fake_turtlebot.launch', 'sim_speed:=5'],
+], ids=['nav_square_sim', 'fake_turtlebot_sim_speed'])
+def test_a_second_robot_is_refused_and_the_first_goes_on(graph, second):
+    first = graph.start(['roslaunch', 'rbx1_nav', 'fake_turtlebot.launch'], 'first')
+    graph.wait_for(lambda: {'/fake_turtlebot', '/robot_state_publisher'} <= graph.nodes(),
+                   'first robot')
+    pids = {name: graph.node_pid(name)
+            for name in ('/fake_turtlebot', '/robot_state_publisher')}
+
+    again = graph.start(second, 'second')
+    try:
+        again.wait(END_LIMIT)
+    except subprocess.TimeoutExpired:
+        pytest.fail('the second launch did not end:\n' + graph.output('second'))
+    out = graph.output('second')
+    print(out)
+    assert LINE in out, out
+    assert 'nav_square.launch' in out and 'rosnode kill /fake_turtlebot' in out
+
+    # The first launch and its nodes go on: the same processes, answering.
+    assert first.poll() is None, graph.output('first')
+    for name, pid in pids.items():
+        assert graph.node_pid(name) == pid, (name, graph.output('first'))
+    assert graph.run(['rosnode', 'ping', '-c', '1', '/robot_state_publisher']).returncode == 0
+    assert graph.run(['rosparam', 'get', '/use_sim_time']).stdout.strip() == 'false'
+    # Unmoved by the second launch's course, and it still drives.
+    assert abs(graph.odom_x()) < 1e-9
+    graph.start(['rostopic', 'pub', '-r', '20', '/cmd_vel', 'geometry_msgs/Twist',
+                 '{linear: {x: 0.2}}'], 'drive')
+    graph.wait_for(lambda: graph.odom_x() > 0.05, 'motion of the first robot')
