@@ -136,7 +136,7 @@ def test_rviz_draws_odometry_and_ground_truth(config, tmp_path):
         display = procs.start_xvfb()
         procs.start('robot', ['roslaunch', '-p', str(port), 'rbx1_nav', launch,
                               'sim_speed:=10', 'realistic:=true'])
-        rviz = procs.start('rviz', ['rviz', '-d', os.path.join(ROOT, 'rviz', config)])
+        rviz = procs.start('rviz', ['rviz', '-d', os.path.join(ROOT, config)])
         # A course started before the launch sets /use_sim_time would run on
         # the wall clock while the robot runs at 10x (issue: the course
         # does not yet notice).

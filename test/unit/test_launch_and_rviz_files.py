@@ -14,7 +14,7 @@ import pytest
 import yaml
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), '..', '..'))
-RVIZ = sorted(glob.glob(os.path.join(ROOT, 'rviz', '*.rviz')))
+RVIZ = sorted(glob.glob(os.path.join(ROOT, '*.rviz')))
 LAUNCH = sorted(glob.glob(os.path.join(ROOT, 'launch', '*.launch')))
 SCREEN = (1280, 800)  # a common laptop screen
 
