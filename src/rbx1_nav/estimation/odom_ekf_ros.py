@@ -95,7 +95,11 @@ class OdomEkfNode(object):
             if text:
                 rospy.logwarn('odom_ekf: ' + text)
             return
-        self.pub.publish(odom)
+        try:
+            self.pub.publish(odom)
+        except rospy.ROSException:
+            if not rospy.is_shutdown():
+                raise  # else Ctrl-C closed the topic under this callback
 
 
 def main(specs, doc):
