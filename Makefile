@@ -51,6 +51,11 @@ build: deps
 	  echo "build: $(WS) was built from $$(readlink $(WS)/src/rbx1_nav): starting it afresh"; \
 	  rm -rf $(WS)/build $(WS)/devel $(WS)/install; fi
 	@ln -sfn $(CURDIR) $(WS)/src/rbx1_nav
+	@# catkin finds no package inside another: rbx1_bringup (the launch
+	@# files the book starts from it) goes beside rbx1_nav. Its folder is
+	@# hidden: roslaunch looks for a launch file's name in every folder of
+	@# rbx1_nav but hidden ones, and would find two fake_turtlebot.launch.
+	@ln -sfn $(CURDIR)/.rbx1_bringup $(WS)/src/rbx1_bringup
 	@echo "build: catkin_make in $(WS) (log: $(WS)/build.log)"
 	@cd $(WS) && flock $(WS)/.build.lock catkin_make --force-cmake -DPYTHON_EXECUTABLE=/usr/bin/python3 > $(WS)/build.log 2>&1 \
 	  || { tail -40 $(WS)/build.log; exit 1; }
@@ -64,7 +69,7 @@ $(VENV)/.$(VERMIN):
 
 # ROS Noetic runs Python 3.8: nothing newer anywhere (vermin fails on it).
 lint: build $(VENV)/.$(VERMIN)
-	$(ROS) catkin_lint -W2 --strict $(WS)/src/rbx1_nav
+	$(ROS) catkin_lint -W2 --strict $(WS)/src/rbx1_nav $(WS)/src/rbx1_bringup
 	$(VENV)/bin/vermin --target=3.8- --violations --no-tips nodes src bench test cfg/*.cfg setup.py
 
 # Unit tests (pytest, no master), every test/rostest/*.test through rostest, and the

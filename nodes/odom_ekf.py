@@ -1,13 +1,19 @@
 #!/usr/bin/env python3
 """Republish a fused pose (PoseWithCovarianceStamped) as nav_msgs/Odometry.
 
-Subscribes ``input`` (geometry_msgs/PoseWithCovarianceStamped) and publishes
-``output`` (nav_msgs/Odometry); ``launch/odom_ekf.launch`` remaps them to
-``/robot_pose_ekf/odom_combined`` (where robot_pose_ekf and pose_ekf.py
-publish) and ``/odom_ekf`` so RViz can show the gyro + wheel estimate next
-to the raw ``/odom``. The mapping lives in ``rbx1_nav.estimation.odom_ekf``. Should
-nothing come on the input within 5 s (wall time, SILENT) of start-up, one
-warning names the topic and the topics that carry
+Subscribes the fused pose (geometry_msgs/PoseWithCovarianceStamped) and
+publishes it as ``output`` (nav_msgs/Odometry; ``launch/odom_ekf.launch``
+remaps it to ``/odom_ekf``) so RViz can show the gyro + wheel estimate next
+to the raw ``/odom``. Unless ``input`` is remapped (then that topic alone),
+it hears both ``odom_combined``, the book's name (a TurtleBot's bringup
+remaps robot_pose_ekf's output there), and ``robot_pose_ekf/odom_combined``,
+where robot_pose_ekf and pose_ekf.py publish it, and follows the first that
+delivers a pose. Should the other deliver too, its poses are dropped with
+one warning naming both topics and the remap that follows the other; the
+node follows the other only once the first has been silent for 5 s (wall
+time). The mapping and the choice live in ``rbx1_nav.estimation.odom_ekf``.
+Should nothing come on the input within 5 s (wall time, SILENT) of
+start-up, one warning names the topics and the topics that carry
 PoseWithCovarianceStamped.
 
 A bad parameter is logged and the node exits with status 1. Unstamped,

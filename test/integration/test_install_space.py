@@ -91,6 +91,19 @@ def test_the_source_tree_is_on_no_path(install_setup):
         assert source not in proc.stdout
 
 
+def test_the_books_files_are_found_from_the_install_space(install_setup):
+    """What the book's lines name: rbx1_bringup's launch files and the RViz
+    views at rbx1_nav's root (rviz -d `rospack find rbx1_nav`/sim.rviz)."""
+    proc = run_in(install_setup, 'ls `rospack find rbx1_nav`/sim.rviz '
+                  '`rospack find rbx1_nav`/nav_ekf.rviz && '
+                  'roslaunch --files rbx1_bringup fake_turtlebot.launch && '
+                  'roslaunch --files rbx1_bringup odom_ekf.launch')
+    assert proc.returncode == 0, proc.stdout
+    space = os.path.dirname(install_setup)
+    for line in proc.stdout.split():
+        assert line.startswith(space), proc.stdout
+
+
 def test_demo_course_completes_from_the_install_space(install_setup):
     with socket.socket() as s:  # a free port for this launch's own master
         s.bind(('localhost', 0))

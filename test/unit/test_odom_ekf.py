@@ -12,6 +12,8 @@ from rbx1_nav.estimation.input_check import (ABSURD, DUPLICATE, MAX_POSITION, NE
 from rbx1_nav.estimation.odom_ekf import (MAX_TWIST, MIN_TWIST_DT,  # noqa: E402
                                           UNKNOWN_TWIST_COVARIANCE,
                                           UNKNOWN_VARIANCE, POSE_TYPE, PoseToOdometry,
+                                          BOOK_INPUT, DEFAULT_INPUTS, FILTER_INPUT,
+                                          SWITCH_AFTER, InputChoice,
                                           input_publishers, silent_input_text)
 from rbx1_nav.transform_utils import strip_leading_slash  # noqa: E402
 
@@ -305,3 +307,83 @@ def test_the_input_publishers_and_the_topics_to_remap_to_come_from_the_graph():
                                   '/robot_pose_ekf/odom_combined']
     assert input_publishers('/nothing', graph)[0] == []
     assert input_publishers('/odom_combined', None) == (None, None)
+
+
+BOOK, OWN = '/odom_combined', '/robot_pose_ekf/odom_combined'
+
+
+def test_the_default_inputs_are_the_books_and_the_filters_own():
+    assert DEFAULT_INPUTS == (BOOK_INPUT, FILTER_INPUT)
+    assert (BOOK_INPUT, FILTER_INPUT) == ('odom_combined',
+                                          'robot_pose_ekf/odom_combined')
+
+
+@pytest.mark.parametrize('first, other', [(BOOK, OWN), (OWN, BOOK)])
+def test_the_first_input_to_deliver_is_followed_and_the_other_named_once(
+        first, other):
+    choice = InputChoice([BOOK, OWN])
+    taken = choice.offer(first, 0.0)
+    assert taken.take and not taken.switched and taken.level == 'info'
+    assert taken.text == 'following %s (the first of %s and %s to publish)' % (
+        first, BOOK, OWN)
+    assert choice.offer(first, 0.1).take
+    assert choice.offer(first, 0.1).text is None
+    dropped = choice.offer(other, 0.2)
+    assert not dropped.take and dropped.level == 'warn'
+    assert dropped.text.startswith('both %s and %s carry a fused pose: '
+                                   'following %s' % (first, other, first))
+    assert 'odom_ekf.launch input:=%s' % other in dropped.text
+    # One warning: the next poses of the other input are dropped silently.
+    for t in (0.3, 0.4, 4.9):
+        assert choice.offer(first, t).take
+        again = choice.offer(other, t)
+        assert not again.take and again.text is None
+    assert choice.followed == first
+
+
+def test_the_other_input_is_followed_once_the_first_is_silent():
+    choice = InputChoice([BOOK, OWN])
+    choice.offer(OWN, 0.0)
+    assert not choice.offer(BOOK, SWITCH_AFTER - 0.01).take
+    switched = choice.offer(BOOK, SWITCH_AFTER)
+    assert switched.take and switched.switched and switched.level == 'warn'
+    assert switched.text == ('nothing on %s for 5 s while %s publishes: '
+                             'following %s now' % (OWN, BOOK, BOOK))
+    assert choice.followed == BOOK
+    back = choice.offer(OWN, SWITCH_AFTER + 0.1)  # the old one is back
+    assert not back.take and 'following %s' % BOOK in back.text
+    assert choice.offer(BOOK, SWITCH_AFTER + 0.2).take
+
+
+def test_a_remapped_input_alone_is_followed():
+    choice = InputChoice(['/my_filter/pose'])
+    assert choice.offer('/my_filter/pose', 0.0).text == 'following /my_filter/pose'
+    with pytest.raises(ValueError):
+        choice.offer(BOOK, 0.1)
+    with pytest.raises(ValueError):
+        InputChoice([])
+
+
+def test_after_a_switch_the_new_filters_poses_are_taken_from_scratch():
+    odom = PoseToOdometry()
+    odom.convert(make_pose(x=0.0, t=10.0))
+    odom.convert(make_pose(x=0.1, t=10.1))
+    # The other filter's clock or stamps lag: without new_input its pose
+    # would be dropped as out of order.
+    with pytest.raises(RejectedInput):
+        odom.convert(make_pose(x=5.0, t=10.05))
+    odom.new_input()
+    out = odom.convert(make_pose(x=5.0, t=10.05))
+    assert out.pose.pose.position.x == 5.0
+    # No twist across the switch.
+    assert list(out.twist.covariance) == list(UNKNOWN_TWIST_COVARIANCE)
+
+
+def test_both_silent_inputs_are_named_with_their_publishers():
+    text = silent_input_text([BOOK, OWN], 5.0, [], [BOOK, OWN, '/gps_pose'])
+    assert text.startswith('nothing on %s or %s after 5 s; nothing publishes '
+                           'it.' % (BOOK, OWN))
+    assert 'input:=/gps_pose' in text
+    graph = ({BOOK: ['/ekf'], OWN: ['/robot_pose_ekf']}, {},
+             {BOOK: POSE_TYPE, OWN: POSE_TYPE})
+    assert input_publishers([BOOK, OWN], graph)[0] == ['/ekf', '/robot_pose_ekf']

@@ -7,8 +7,16 @@ display wants nav_msgs/Odometry, so ``odom_ekf.py``
 :class:`PoseToOdometry`, which drops bad input through
 :class:`rbx1_nav.estimation.input_check.InputCheck` (unstamped, out-of-order or
 repeated poses, NaN or absurd values, negative variances), so the output's
-stamps only move forward. This module imports no rospy: message classes
-from geometry_msgs and nav_msgs load without a master.
+stamps only move forward.
+
+Without a remap of its input the node hears two topics: the book's
+``odom_combined`` (where a TurtleBot's bringup remaps robot_pose_ekf's
+output) and robot_pose_ekf's own ``robot_pose_ekf/odom_combined``.
+:class:`InputChoice` decides which one it follows: the first that delivers
+a pose; should the other deliver too, it is ignored with one warning, and
+taken over only once the followed one has been silent for
+:data:`SWITCH_AFTER` s. This module imports no rospy: message classes from
+geometry_msgs and nav_msgs load without a master.
 """
 import copy
 import math
@@ -23,7 +31,8 @@ from rbx1_nav.transform_utils import (normalize_angle, quat_to_angle,
 
 __all__ = ['PoseToOdometry', 'UNKNOWN_VARIANCE', 'UNKNOWN_TWIST_COVARIANCE',
            'MIN_TWIST_DT', 'MAX_TWIST', 'SENSOR', 'POSE_TYPE',
-           'input_publishers', 'silent_input_text']
+           'input_publishers', 'silent_input_text', 'InputChoice', 'Choice',
+           'BOOK_INPUT', 'FILTER_INPUT', 'DEFAULT_INPUTS', 'SWITCH_AFTER']
 
 #: Variance that marks a twist component as unknown (the common ROS idiom).
 UNKNOWN_VARIANCE = 1e6
@@ -41,6 +50,17 @@ MAX_TWIST = 1e3
 SENSOR = 'pose'
 #: The input's message type, as the master names it.
 POSE_TYPE = 'geometry_msgs/PoseWithCovarianceStamped'
+
+#: The book's name of the fused pose (its TurtleBot bringup remaps
+#: robot_pose_ekf's output here), relative to the node's namespace.
+BOOK_INPUT = 'odom_combined'
+#: robot_pose_ekf's (and pose_ekf.py's) own name for it.
+FILTER_INPUT = 'robot_pose_ekf/odom_combined'
+#: The topics heard when the input is not remapped.
+DEFAULT_INPUTS = (BOOK_INPUT, FILTER_INPUT)
+#: Seconds the followed input must be silent, while another delivers,
+#: before the node follows the other.
+SWITCH_AFTER = 5.0
 
 
 class PoseToOdometry(object):
@@ -88,6 +108,12 @@ class PoseToOdometry(object):
             self.inputs.new_clock()
             self._previous = None
         return back
+
+    def new_input(self):
+        """The poses come from another filter from now on: forget the
+        previous pose (no twist across the switch) and the newest stamp."""
+        self.inputs.new_clock()
+        self._previous = None
 
     def convert(self, msg):
         """Odometry for ``msg``, or RejectedInput (a ValueError) for an
@@ -155,32 +181,109 @@ class PoseToOdometry(object):
              var]).ravel().tolist()
 
 
+class Choice(object):
+    """What :meth:`InputChoice.offer` decided about one pose: ``take`` it
+    or not, and ``text`` to log (None: nothing) at ``level`` ('info' or
+    'warn'); ``switched`` when the followed input changed (the poses
+    before it came from another filter)."""
+
+    __slots__ = ('take', 'switched', 'text', 'level')
+
+    def __init__(self, take, switched=False, text=None, level='info'):
+        self.take, self.switched = take, switched
+        self.text, self.level = text, level
+
+    def __repr__(self):
+        return 'Choice(%r, %r, %r, %r)' % (self.take, self.switched,
+                                           self.text, self.level)
+
+
+class InputChoice(object):
+    """Which of the input ``topics`` (resolved names) the node follows.
+
+    The first topic that delivers a pose is followed. A pose from another
+    topic is dropped; the first such pose of each topic gives one warning
+    naming both topics (two filters, or one remapped and one not). Should
+    the followed topic stay silent for ``switch_after`` s (the caller's
+    clock, ``now``) while another delivers, the other is followed from
+    then on, with a warning.
+    """
+
+    def __init__(self, topics, switch_after=SWITCH_AFTER):
+        self.topics = tuple(topics)
+        if not self.topics:
+            raise ValueError('no input topics')
+        self.switch_after = float(switch_after)
+        self.followed = None
+        self._last = {}
+        self._warned = set()
+
+    def offer(self, topic, now):
+        """A :class:`Choice` for a pose that arrived on ``topic`` at
+        ``now`` (seconds)."""
+        if topic not in self.topics:
+            raise ValueError('%s is not an input (%s)'
+                             % (topic, ', '.join(self.topics)))
+        self._last[topic] = now
+        if self.followed is None:
+            self.followed = topic
+            text = 'following %s' % topic
+            if len(self.topics) > 1:
+                text += ' (the first of %s to publish)' % ' and '.join(
+                    self.topics)
+            return Choice(True, text=text)
+        if topic == self.followed:
+            return Choice(True)
+        silent = now - self._last[self.followed]
+        if silent >= self.switch_after:
+            old, self.followed = self.followed, topic
+            return Choice(True, switched=True, level='warn', text=(
+                'nothing on %s for %.0f s while %s publishes: following %s '
+                'now' % (old, silent, topic, topic)))
+        if topic in self._warned:
+            return Choice(False)
+        self._warned.add(topic)
+        return Choice(False, level='warn', text=(
+            'both %s and %s carry a fused pose: following %s (it published '
+            'first), ignoring %s. Two filters run, or one filter\'s output '
+            'is remapped and another\'s is not. To follow the other: '
+            'roslaunch rbx1_nav odom_ekf.launch input:=%s'
+            % (self.followed, topic, self.followed, topic, topic)))
+
+
+def _topics(topic):
+    return (topic,) if isinstance(topic, str) else tuple(topic)
+
+
 def input_publishers(topic, graph):
     """``(publishers, candidates)`` for :func:`silent_input_text`: the
-    nodes that publish ``topic`` and the published topics of
-    :data:`POSE_TYPE`, from ``graph`` (the master's ``(publishers,
-    subscribers, types)``, dicts by topic name); both None without a
-    ``graph``."""
+    nodes that publish ``topic`` (a name, or a sequence of names) and the
+    published topics of :data:`POSE_TYPE`, from ``graph`` (the master's
+    ``(publishers, subscribers, types)``, dicts by topic name); both None
+    without a ``graph``."""
     if graph is None:
         return None, None
     published, _, types = graph
-    return (published.get(topic, []),
+    return (sorted({node for name in _topics(topic)
+                    for node in published.get(name, [])}),
             [name for name, kind in types.items()
              if kind == POSE_TYPE and published.get(name)])
 
 
 def silent_input_text(topic, seconds, publishers, candidates):
-    """The warning when nothing came on the input ``topic`` in ``seconds``.
+    """The warning when nothing came on the input ``topic`` (a name, or a
+    sequence of names: the inputs heard) in ``seconds``.
 
     ``publishers`` are the nodes that publish ``topic`` and ``candidates``
     the published topics that carry geometry_msgs/PoseWithCovarianceStamped,
     both from the master (None when it could not tell).
     """
-    text = 'nothing on %s after %.0f s; ' % (topic, seconds)
+    topics = _topics(topic)
+    text = 'nothing on %s after %.0f s; ' % (' or '.join(topics), seconds)
     if publishers:
         return text + ('%s publishes it but sent nothing: is the filter '
                        'getting its sensors?' % ', '.join(sorted(publishers)))
-    others = sorted(set(candidates or ()) - {topic})
+    others = sorted(set(candidates or ()) - set(topics))
     if others:
         return text + ('nothing publishes it. Topics that carry '
                        'PoseWithCovarianceStamped: %s. Remap the input, e.g. '
