@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from rbx1_nav.common.tf_publishers import robot_conflict_text
+from rbx1_nav.common.tf_publishers import foreign_parent, robot_conflict_text
 from rbx1_nav.motion.course import Course, legs_course
 from rbx1_nav.motion.tf_guard import (EXTRA_ANGULAR, EXTRA_LINEAR, MARGIN,
                                       SLACK_ANGULAR, SLACK_LINEAR,
@@ -85,3 +85,12 @@ def test_the_fake_robots_conflict_line_names_the_node_and_fix():
     assert text.startswith('node /robot1/fake_turtlebot also publishes the '
                            'transform odom -> base_footprint on /tf')
     assert '_odom_frame:=robot1/odom' in text and '/tf:=tf' in text
+
+
+def test_only_another_nodes_transform_of_our_child_frame_is_foreign():
+    from types import SimpleNamespace as T
+    tfs = [T(child_frame_id='wheel', header=T(frame_id='base_footprint')),
+           T(child_frame_id='/base_footprint', header=T(frame_id='/odom'))]
+    assert foreign_parent('/other', '/me', tfs, 'base_footprint') == 'odom'
+    assert foreign_parent('/me', '/me', tfs, 'base_footprint') is None
+    assert foreign_parent('/other', '/me', tfs[:1], 'base_footprint') is None

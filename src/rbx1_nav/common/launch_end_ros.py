@@ -13,17 +13,11 @@ import xmlrpc.client
 
 import rosgraph
 
+from rbx1_nav.common.master_watch import proxy
+
 __all__ = ['forget_params']
 
 CALLER = '/rbx1_nav_end_launch'
-TIMEOUT = 2.0  # s, socket timeout of the call to the master
-
-
-class _TimeoutTransport(xmlrpc.client.Transport):
-    def make_connection(self, host):
-        connection = super(_TimeoutTransport, self).make_connection(host)
-        connection.timeout = TIMEOUT
-        return connection
 
 
 def forget_params(name):
@@ -31,8 +25,6 @@ def forget_params(name):
     private namespace) from the master; quietly nothing if it has none, or
     the master is gone (it may end with the launch)."""
     try:
-        xmlrpc.client.ServerProxy(rosgraph.get_master_uri(),
-                                  transport=_TimeoutTransport()).deleteParam(
-                                      CALLER, name)
+        proxy(rosgraph.get_master_uri()).deleteParam(CALLER, name)
     except (OSError, xmlrpc.client.Error):
         pass

@@ -16,39 +16,19 @@ connections they already have go on (closing a subscriber would drop its
 connection to a publisher that the new master does not know about).
 """
 import threading
-import xmlrpc.client
 
 import rosgraph
 import rospy
 from rospy.impl.registration import get_service_manager, get_topic_manager
 
-from rbx1_nav.common.master_watch import (BACK, GONE, RESTARTED, MasterStates,
-                                          reregistering_text)
+from rbx1_nav.common.master_watch import (BACK, GONE, RESTARTED, TIMEOUT,
+                                          MasterStates, proxy, reregistering_text)
 
 __all__ = ['MasterWatch', 'proxy', 'topic_graph', 'reregister',
            'reregister_node']
 
 PERIOD = 1.0  # s between polls
-TIMEOUT = 2.0  # s, socket timeout of each call to the master
 ATTEMPTS = 3  # re-registrations tried after a restart, PERIOD apart
-
-
-class _TimeoutTransport(xmlrpc.client.Transport):
-    """An XML-RPC transport whose connections time out after ``timeout`` s."""
-
-    def __init__(self, timeout):
-        super(_TimeoutTransport, self).__init__()
-        self.timeout = timeout
-
-    def make_connection(self, host):
-        connection = super(_TimeoutTransport, self).make_connection(host)
-        connection.timeout = self.timeout  # used by connect(), for every call
-        return connection
-
-
-def proxy(uri, timeout=TIMEOUT):
-    """An XML-RPC proxy to ``uri`` whose calls time out after ``timeout`` s."""
-    return xmlrpc.client.ServerProxy(uri, transport=_TimeoutTransport(timeout))
 
 
 def _value(reply, what):

@@ -10,12 +10,34 @@ in rospy says so. :class:`MasterStates` turns one observation per poll (the
 master's identity, or None when it did not answer) into the events a node
 acts on. It imports no rospy; ``rbx1_nav.common.master_ros`` does the polling.
 """
+import xmlrpc.client
 
 #: Failed polls in a row before the master counts as gone, so that a lossy
 #: link (one poll in three lost) does not make the warning come and go.
 GONE_AFTER = 3
 
 GONE, BACK, RESTARTED = 'gone', 'back', 'restarted'
+
+TIMEOUT = 2.0  # s, socket timeout of each call to the master (or a node)
+
+
+class _TimeoutTransport(xmlrpc.client.Transport):
+    """An XML-RPC transport whose connections time out after ``timeout`` s."""
+
+    def __init__(self, timeout):
+        super(_TimeoutTransport, self).__init__()
+        self.timeout = timeout
+
+    def make_connection(self, host):
+        connection = super(_TimeoutTransport, self).make_connection(host)
+        connection.timeout = self.timeout  # used by connect(), for every call
+        return connection
+
+
+def proxy(uri, timeout=TIMEOUT):
+    """An XML-RPC proxy to ``uri`` (the master, a node) whose calls time out
+    after ``timeout`` s: never rospy's connection, which has no timeout."""
+    return xmlrpc.client.ServerProxy(uri, transport=_TimeoutTransport(timeout))
 
 
 def same_master(seen, reference):

@@ -9,7 +9,19 @@ log it; :func:`robot_conflict_text` is the fake robot's line
 here.
 """
 
-__all__ = ['OtherPublisherWatch', 'robot_conflict_text']
+__all__ = ['OtherPublisherWatch', 'robot_conflict_text', 'foreign_parent']
+
+
+def foreign_parent(caller, own, transforms, child):
+    """The parent frame of the first of ``transforms`` (a tf message's)
+    with ``child`` as child frame, when ``caller`` (its sender) is not
+    this node ``own``; else None."""
+    if caller == own:
+        return None
+    for tf in transforms:
+        if tf.child_frame_id.lstrip('/') == child:
+            return tf.header.frame_id.lstrip('/')
+    return None
 
 
 class OtherPublisherWatch(object):

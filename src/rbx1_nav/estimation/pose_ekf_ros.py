@@ -31,6 +31,7 @@ from rbx1_nav.common.lockstep_member import BACK, NO_TICK
 from rbx1_nav.common.master_ros import MasterWatch, reregister_node, topic_graph
 from rbx1_nav.common.node_ros import start_node, until_shutdown
 from rbx1_nav.common.ros_time import time_moved_back_text
+from rbx1_nav.common.tf_publishers import foreign_parent
 from rbx1_nav.estimation.ekf import is_finite_estimate
 from rbx1_nav.estimation.fusion import GyroOdomFusion
 from rbx1_nav.estimation.input_check import RejectedInput
@@ -169,16 +170,11 @@ class PoseEkfNode(object):
     def on_tf(self, msg):
         """Spot another node publishing our child frame on tf."""
         caller = msg._connection_header.get('callerid', '?')
-        if caller == rospy.get_name():
-            return
-        for tf in msg.transforms:
-            if tf.child_frame_id.lstrip('/') != self.base_frame:
-                continue
-            if self.conflicts.seen(caller, rospy.Time.now().to_sec()):
-                rospy.logerr('pose_ekf: ' + other_publisher_text(
-                    caller, tf.header.frame_id.lstrip('/'), self.base_frame,
-                    self.tf_sub.resolved_name))
-            return
+        parent = foreign_parent(caller, rospy.get_name(), msg.transforms,
+                                self.base_frame)
+        if parent and self.conflicts.seen(caller, rospy.Time.now().to_sec()):
+            rospy.logerr('pose_ekf: ' + other_publisher_text(
+                caller, parent, self.base_frame, self.tf_sub.resolved_name))
 
     def on_get_status(self, _request):
         now = rospy.Time.now().to_sec()

@@ -15,27 +15,19 @@ import xmlrpc.client
 import rosgraph
 
 from rbx1_nav.common import launch_end
+from rbx1_nav.common.master_watch import proxy
 from rbx1_nav.sim.already_up import refusal_text, resolved_name, skip_text
 
 __all__ = ['running_pid', 'refuse_if_running', 'exec_unless_running']
 
 CALLER = '/rbx1_nav_already_up'
-TIMEOUT = 2.0  # s, socket timeout of a call to a node
-
-
-class _TimeoutTransport(xmlrpc.client.Transport):
-    def make_connection(self, host):
-        connection = super(_TimeoutTransport, self).make_connection(host)
-        connection.timeout = TIMEOUT
-        return connection
 
 
 def _call(uri, method, *args):
     """The value of the XML-RPC call ``method(CALLER, *args)`` at ``uri``;
     None if it fails or does not answer within TIMEOUT."""
     try:
-        code, _, value = getattr(xmlrpc.client.ServerProxy(
-            uri, transport=_TimeoutTransport()), method)(CALLER, *args)
+        code, _, value = getattr(proxy(uri), method)(CALLER, *args)
     except (OSError, xmlrpc.client.Error, ValueError):
         return None
     return value if code == 1 else None

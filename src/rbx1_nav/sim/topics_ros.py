@@ -24,7 +24,8 @@ from rbx1_nav.sim.params import GPS_UNKNOWN_VARIANCE, MAX_CATCH_UP, WARN_PERIOD
 from rbx1_nav.sim.physics import PhysicsConfig, PhysicsFleet
 from rbx1_nav.common import lockstep_member_ros as lockstep
 from rbx1_nav.common.publish_ros import synchronous_publisher
-from rbx1_nav.common.tf_publishers import OtherPublisherWatch, robot_conflict_text
+from rbx1_nav.common.tf_publishers import (OtherPublisherWatch, foreign_parent,
+                                           robot_conflict_text)
 from rbx1_nav.common.throttle import Throttle
 from rbx1_nav.transform_utils import strip_leading_slash, yaw_to_quaternion
 
@@ -199,16 +200,11 @@ class RobotTopics:
         """Log (at once, then every 30 s while it lasts) another node
         publishing this robot's transform."""
         caller = msg._connection_header.get('callerid', '?')
-        if caller == rospy.get_name():
-            return
-        for tf in msg.transforms:
-            if tf.child_frame_id.lstrip('/') != self.base_frame:
-                continue
-            if self.conflicts.seen(caller, rospy.Time.now().to_sec()):
-                rospy.logerr('%s: %s', self.log_name, robot_conflict_text(
-                    caller, tf.header.frame_id.lstrip('/'), self.base_frame,
-                    self.tf_sub.resolved_name))
-            return
+        parent = foreign_parent(caller, rospy.get_name(), msg.transforms,
+                                self.base_frame)
+        if parent and self.conflicts.seen(caller, rospy.Time.now().to_sec()):
+            rospy.logerr('%s: %s', self.log_name, robot_conflict_text(
+                caller, parent, self.base_frame, self.tf_sub.resolved_name))
 
     def report_watchdog(self, stamp):
         """Log once each time the watchdog stops or releases the base."""
