@@ -51,6 +51,17 @@ def test_time_jumps_to_the_earliest_tick_and_grants_only_those_due():
     assert owner.next_grant() == (time + 20 * MS, ['/sim'])
 
 
+def test_grants_name_the_simulators_not_the_filters():
+    """A filter granted every step until its first estimate is still no
+    simulator: a course following its transform must not wait for a
+    state stamped at each tick from it."""
+    owner = Owner()
+    owner.report(report('/sim', 0, 0, every_step=True))
+    owner.report(report('/robot_pose_ekf', 0, 0))
+    owner.report(report('/course', 0, 0))
+    assert owner.simulators() == ['/sim']
+
+
 def test_a_20_hz_course_on_a_50_hz_simulator_costs_only_their_ticks():
     owner = Owner()
     owner.report(report('/sim', 0, 0, every_step=True))

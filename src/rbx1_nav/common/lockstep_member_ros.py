@@ -94,6 +94,7 @@ class Member(object):
         self.sending = threading.RLock()
         self.grant = None       # the newest grant naming this node
         self.members = set()    # the names in the newest grant seen
+        self.sims = set()       # the simulators it names
         self.joined = self.left = False
         self.rejoin = False     # a new owner is there: send the report now
         self.last = None        # the last report, to send again
@@ -105,6 +106,7 @@ class Member(object):
     def _on_grant(self, msg):
         with self.cond:
             self.members = set(msg.members)
+            self.sims = set(msg.simulators)
             named = self.name in self.members
             if named and self.step is None:
                 self.grant = msg
@@ -164,9 +166,9 @@ class Member(object):
             rospy.rostime.wallsleep(0.01)                  # before the node does
 
     def simulators(self):
-        """Names in the newest grant (every simulator is in each)."""
+        """The simulators taking part, as the newest grant names them."""
         with self.cond:
-            return set(self.members)
+            return set(self.sims)
 
     def connected(self):
         """True once the owner takes this node's reports and sends it grants."""

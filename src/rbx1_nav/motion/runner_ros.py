@@ -26,7 +26,9 @@ move (rbx1_nav.motion.tf_guard). Exit status 0 only after a completed
 course.
 
 Under lockstep simulated time (rbx1_nav.sim_time.lockstep) the node is a member
-while it drives: sim_clock grants it each control tick, at which the
+from its wait for the transform to the end of the course (it finds the
+transform at a granted tick: the same on every run): sim_clock grants it
+each control tick, at which the
 simulator has published its state, and time waits for the tick's command;
 the start-up waits for the clock, the transform and a cmd_vel subscriber
 (~tf_wait) count wall seconds, at any simulation speed, lockstep or not:
@@ -191,9 +193,8 @@ class MotionRunner(object):
         # cmd_vel is a fight (rbx1_nav.common.cmd_vel_watch.OtherDriver).
         self.cmd_vel.others.arm()
         try:
-            if self.tf.followed is None:  # start-up waits: wall time
-                self.tf.followed = self.tf.find_base_frame(
-                    self.settings['tf_wait'], True, self.require_tf)
+            if self.tf.followed is None:
+                self._find_base_frame()
             self.cmd_vel.wait_for_listener(self.settings['tf_wait'])
             if self.tf.followed is not None:
                 self.tf.guard = TransformGuard(
@@ -201,17 +202,29 @@ class MotionRunner(object):
             if self.settings['start_delay'] > 0.0:
                 rospy.loginfo('Starting in %.1f s', self.settings['start_delay'])
                 self.pause(self.settings['start_delay'])
-            try:
-                final = self._drive(course)
-            except BaseException:
-                self.leave()
-                raise
-            if not stay:
-                self.leave()
-            return final
+            final = self._drive(course)
+        except BaseException:
+            self.leave()
+            raise
         finally:
             self.cmd_vel.others.disarm()
             self.tf.guard = None
+        if not stay:
+            self.leave()
+        return final
+
+    def _find_base_frame(self):
+        """The start-up wait for the transform (~tf_wait, wall seconds).
+        Under lockstep the node joins first and looks at each tick granted
+        meanwhile: the course starts at the same tick on every run, and with
+        sim_clock's ~members counting it, at the same time."""
+        ticks = None
+        if self.ticks.member is not None:
+            ticks = (self.ticks.grant for _ in self.ticks.ticks(self._joined))
+        self.tf.followed = self.tf.find_base_frame(
+            self.settings['tf_wait'], self.require_tf, ticks)
+        if ticks is not None:
+            self._joined()  # now that the followed frame is known
 
     def pause(self, seconds):
         """Wait ``seconds`` of ROS time between courses (see Ticks.pause)."""

@@ -71,6 +71,9 @@ class TfFollower(object):
         self.simulator = None
         self.state_wait = lockstep.STATE_LIMIT
         self.counted = None
+        # Lockstep: (sender, child frame) -> the newest stamp (ns) a grant
+        # counted of it.
+        self.seen = {}
 
     def _on_tf(self, msg):
         """Feed each update of the followed transform to ``guard`` (while a
@@ -87,28 +90,30 @@ class TfFollower(object):
                             quat_to_angle(t.transform.rotation))
         if self.member is None:
             return
-        stamps = [to_ns(t.header.stamp) for t in followed]
-        self.member.arrived(self.tf_topic, msg,
-                            (sender(msg), max(stamps) if stamps else None))
+        frames = {}
+        for t in msg.transforms:
+            child = t.child_frame_id.lstrip('/')
+            frames[child] = max(to_ns(t.header.stamp), frames.get(child, 0))
+        self.member.arrived(self.tf_topic, msg, (sender(msg), frames))
 
-    def find_base_frame(self, wait, wall, require_tf):
-        """Wait up to ``wait`` s (wall s when ``wall``) for odom -> base;
-        return the base frame, or None when ``require_tf`` is false (the
-        course runs blind); CourseAborted when it is true."""
-        candidates = ((self.base_frame,) if self.base_frame
-                      else BASE_FRAME_CANDIDATES)
+    def find_base_frame(self, wait, require_tf, ticks=None):
+        """Wait up to ``wait`` wall s for odom -> base; return the base
+        frame, or None when ``require_tf`` is false (the course runs
+        blind); CourseAborted when it is true. Under lockstep ``ticks``
+        yields the grant of each tick granted meanwhile: the frame is found
+        at a tick (:meth:`found_at`), the same on every run."""
+        candidates = self.candidates()
         rospy.loginfo('Waiting up to %.1f s for tf %s -> %s', wait,
                       self.odom_frame, ' or '.join(candidates))
-        deadline = Deadline(wait, wall)
-        while not rospy.is_shutdown():
-            for frame in candidates:
-                if self.buffer.can_transform(self.odom_frame, frame,
-                                             rospy.Time(0)):
-                    rospy.loginfo('Following tf %s -> %s', self.odom_frame, frame)
-                    return frame
-            if deadline.expired():
+        deadline = Deadline(wait, True)
+        looks = (self._polls(candidates, deadline) if ticks is None else
+                 (self.found_at(grant) for grant in ticks))
+        for frame in looks:
+            if frame is not None:
+                rospy.loginfo('Following tf %s -> %s', self.odom_frame, frame)
+                return frame
+            if deadline.expired() or rospy.is_shutdown():
                 break
-            deadline.poll(20)
         if rospy.is_shutdown():
             raise rospy.ROSInterruptException('shutdown while waiting for tf')
         problem = (
@@ -124,6 +129,49 @@ class TfFollower(object):
             'for the simulator, or the robot\'s driver (e.g. its bringup '
             'launch) on a real robot; or set ~odom_frame / ~base_frame to the '
             'frames your robot uses.' % problem)
+
+    def _polls(self, candidates, deadline):
+        """The first of ``candidates`` tf has, or None, every 1/20 wall s."""
+        while True:
+            yield next((frame for frame in candidates if self.buffer.can_transform(
+                self.odom_frame, frame, rospy.Time(0))), None)
+            deadline.poll(20)
+
+    def _take(self, grant):
+        """Note the /tf messages ``grant`` counts (held until it does)."""
+        for who, frames in self.member.take(grant, key=lambda item: 0):
+            for child, stamp in frames.items():
+                key = (who, child)
+                self.seen[key] = max(stamp, self.seen.get(key, 0))
+
+    def found_at(self, grant):
+        """Under lockstep, at a start-up tick (``grant``): the base frame
+        found, or None; the same tick on every run.
+
+        A candidate counts once tf has it and, if its broadcaster takes
+        part in lockstep (a simulator, a filter: each counts its /tf
+        messages), once a message of it is among those the grant counts;
+        one from a node outside lockstep counts as it comes.
+        """
+        self._take(grant)
+        members = set(grant.members) | {
+            who for topic, who in zip(grant.topics, grant.senders)
+            if topic == self.tf_topic}
+        for frame in self.candidates():
+            if self.buffer.can_transform(self.odom_frame, frame, rospy.Time(0)):
+                who = self._broadcaster(frame)
+                if who not in members or (who, frame) in self.seen:
+                    return frame
+        return None
+
+    def candidates(self):
+        """The base frames to look for: ~base_frame, or the usual ones."""
+        return (self.base_frame,) if self.base_frame else BASE_FRAME_CANDIDATES
+
+    def _broadcaster(self, frame):
+        """The node that sent ``frame``'s transform to the tf buffer."""
+        frames = yaml.safe_load(self.buffer.all_frames_as_yaml()) or {}
+        return frames.get(frame, {}).get('broadcaster')
 
     def lookup(self, stamp=None):
         """(Pose2D, stamp) of the odom -> base transform at ``stamp`` (None:
@@ -144,8 +192,7 @@ class TfFollower(object):
         self.simulator = self.broadcaster = None
         if self.followed is None:
             return
-        frames = yaml.safe_load(self.buffer.all_frames_as_yaml()) or {}
-        self.broadcaster = frames.get(self.followed, {}).get('broadcaster')
+        self.broadcaster = self._broadcaster(self.followed)
         if self.broadcaster in simulators:
             self.simulator = self.broadcaster
 
@@ -164,9 +211,10 @@ class TfFollower(object):
         """
         if grant is None:
             return self.lookup()
-        for who, stamp in self.member.take(grant, key=lambda item: 0):
-            if who == self.broadcaster and stamp is not None:
-                self.counted = max(stamp, self.counted or 0)
+        self._take(grant)
+        counted = self.seen.get((self.broadcaster, self.followed))
+        if counted is not None:
+            self.counted = counted
         if self.simulator is not None:
             if self.simulator in grant.members:
                 tick = to_ns(now)

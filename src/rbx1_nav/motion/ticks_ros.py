@@ -2,8 +2,9 @@
 
 On a real robot (or simulated time without lockstep) a tick comes every
 1/~rate s of ROS time (rospy.Rate). Under lockstep simulated time
-(rbx1_nav.common.lockstep_member_ros) the node is a member while it
-drives: it joins the owner of simulated time, waits for each grant naming
+(rbx1_nav.common.lockstep_member_ros) the node is a member from its
+wait for the transform to the end of its course: it joins the owner of
+simulated time, waits for each grant naming
 it (the simulator has published its state at that tick), handles the tick,
 and reports it handled with its next tick 1/~rate s on; time waits for it.
 A node that drives several courses in a row (UMBmark's runs) may stay a

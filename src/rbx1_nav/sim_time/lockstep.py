@@ -158,6 +158,10 @@ class Owner(object):
             member.granted, member.silent_since = time, wall
         return names
 
+    def simulators(self):
+        """Names of the members granted every step (simulators)."""
+        return sorted(name for name, m in self.members.items() if m.every_step)
+
     def owing(self):
         """Names of the members that owe a report for the step granted."""
         return sorted(name for name, m in self.members.items()

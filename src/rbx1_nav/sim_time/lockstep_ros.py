@@ -92,6 +92,7 @@ class TimeOwner(object):
         counts = self.owner.sent_counts()
         return LockstepGrant(
             session=self.session, time=from_ns(time_ns), members=names,
+            simulators=self.owner.simulators(),
             topics=[c[0] for c in counts], senders=[c[1] for c in counts],
             counts=[c[2] for c in counts])
 
