@@ -47,10 +47,15 @@ class Ticks(object):
             return
         member = self.member
         period = int(round(1e9 / self.rate))
+        limit = max(lockstep.GRANT_LIMIT, self.grant_wait)
+        wait = limit
         if self.unreported is not None:  # still a member: the next tick
             member.report(self.unreported, self.unreported + period)
             self.unreported = None
         else:
+            # The first grant may wait for the other members sim_clock's
+            # ~members counts: up to the start-up wait (~tf_wait).
+            wait = max(limit, self.join_wait)
             try:
                 member.join(self.join_wait)
             except lockstep.JoinError as err:
@@ -58,16 +63,16 @@ class Ticks(object):
                                     'Start the simulator with lockstep too, or set '
                                     '/lockstep false' % err)
             joined()
-        limit = max(lockstep.GRANT_LIMIT, self.grant_wait)
         while True:
-            granted = member.wait_grant(limit)
+            granted = member.wait_grant(wait)
             if granted is None:
                 if rospy.is_shutdown():
                     return
                 self.stop()
                 raise CourseAborted(
                     '/clock has not advanced: no lockstep step granted for %.1f s '
-                    'of wall time (sim_clock gone?); stopped the robot' % limit)
+                    'of wall time (sim_clock gone?); stopped the robot' % wait)
+            wait = limit
             action, tick, grant = granted
             self.grant = grant
             if action == BACK:

@@ -39,16 +39,20 @@ def running_pid(name, master_uri=None):
     return None if uri is None else _call(uri, 'getPid')
 
 
-def _clock_running(master_uri):
-    """True if a running node publishes /clock; None if the master does
-    not answer."""
+def _clock_running(master_uri, launch):
+    """True if a running node publishes /clock, other than one started by
+    this node's own roslaunch (process ``launch``: the refused launch's
+    sim_clock, starting beside this node); None if the master does not
+    answer."""
     state = _call(master_uri, 'getSystemState')
     if state is None:
         return None
+    procs = launch_end.processes()
     for topic, nodes in state[0]:
         if topic == '/clock':
-            return any(running_pid(node, master_uri) is not None
-                       for node in nodes)
+            pids = [running_pid(node, master_uri) for node in nodes]
+            return any(pid is not None and procs.get(pid, (None,))[0] != launch
+                       for pid in pids)
     return False
 
 
@@ -67,11 +71,11 @@ def refuse_if_running(default, argv=None, environ=None):
     if pid is None or pid == os.getpid():
         return False
     print('[ERROR] %s: %s' % (default, refusal_text(name, pid)), flush=True)
-    clock = _clock_running(master_uri)
+    parent = os.getppid()
+    clock = _clock_running(master_uri, parent)
     if clock is not None:
         _call(master_uri, 'setParam', '/use_sim_time', clock)
     procs = launch_end.processes()
-    parent = os.getppid()
     if parent in procs and launch_end.is_roslaunch(procs[parent][1]):
         # roslaunch's SIGINT back to this process as it ends: this node is
         # on its way out already.
