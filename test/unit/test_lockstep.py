@@ -14,8 +14,9 @@ import random
 import pytest
 
 from rbx1_nav.sim_time.lockstep import Owner
-from rbx1_nav.common.lockstep_member import (BACK, HANDLE, NO_TICK, REPEAT, STALE, Follower,
-                                             Inbox, MessageLedger, Report)
+from rbx1_nav.common.lockstep_member import (ALIGN, BACK, HANDLE, NO_TICK, REPEAT, STALE,
+                                             Follower, Inbox, MessageLedger, Report,
+                                             aligned)
 
 MS = 1000000  # ns
 
@@ -84,6 +85,15 @@ def test_a_20_hz_course_on_a_50_hz_simulator_costs_only_their_ticks():
     assert len(second) == 60
     assert ticks == list(range(10 * MS, 1010 * MS + 1, 50 * MS))
     assert set(range(10 * MS, 1010 * MS + 1, 20 * MS)) <= set(times)
+
+
+def test_a_course_starts_on_a_multiple_of_align_whenever_it_joined():
+    """Its 20 Hz ticks then meet a 50 Hz grid from zero at the same
+    offsets every time (ALIGN is a multiple of both periods and of the
+    10 ms clock step)."""
+    assert [aligned(t) for t in (0, 1, 10 * MS, ALIGN, ALIGN + 10 * MS)] == [
+        0, ALIGN, ALIGN, ALIGN, 2 * ALIGN]
+    assert ALIGN % (20 * MS) == ALIGN % (50 * MS) == ALIGN % (10 * MS) == 0
 
 
 def test_a_filter_follows_time_without_driving_it():
@@ -264,6 +274,28 @@ def test_a_restarted_simulator_waits_for_a_restarted_sender():
     assert inbox.take([('/odom', '/sim', 1)], key=str) == ['new']
 
 
+def test_a_restarted_sender_is_counted_on_its_new_connection_only():
+    """The old node's stop sent after its last report (it had left) comes
+    on the old connection: not taken for one of the new node's commands,
+    which the simulator must wait for."""
+    ledger = MessageLedger(['/cmd_vel'])
+    for _ in range(5):
+        ledger.arrived('/cmd_vel', '/course', link=1)
+    ledger.restarts([('/cmd_vel', '/course', 5)])
+    ledger.arrived('/cmd_vel', '/course', link=1)  # its stop after leaving
+    ledger.arrived('/cmd_vel', '/course', link=2)  # the new node's first
+    ledger.restarts([('/cmd_vel', '/course', 2)])
+    assert ledger.missing([('/cmd_vel', '/course', 2)]) == [('/cmd_vel', '/course', 1)]
+    ledger.arrived('/cmd_vel', '/course', link=2)
+    assert ledger.missing([('/cmd_vel', '/course', 2)]) == []
+    # A third node under the name, after a second shorter than the first.
+    ledger.arrived('/cmd_vel', '/course', link=2)  # the second's late stop
+    ledger.arrived('/cmd_vel', '/course', link=3)
+    ledger.restarts([('/cmd_vel', '/course', 1)])
+    assert ledger.missing([('/cmd_vel', '/course', 1)]) == []
+    assert ledger.missing([('/cmd_vel', '/course', 2)]) == [('/cmd_vel', '/course', 1)]
+
+
 def test_the_inbox_gives_only_what_the_grant_counts_in_stamp_order():
     """A message published during the step being handled may have arrived
     or not: taken only once a grant counts it, so every run reads the same."""
@@ -276,6 +308,18 @@ def test_the_inbox_gives_only_what_the_grant_counts_in_stamp_order():
     assert inbox.take(counts, key=float) == [0.5, 1.0]
     assert inbox.take(counts, key=float) == []  # nothing new counted
     assert inbox.take([('/odom', '/sim', 2)], key=float) == [2.0]
+
+
+def test_the_inbox_gives_one_input_and_keeps_the_others_for_their_reader():
+    """A course reads /tf in its transform follower and odom in its stall
+    watch: each takes its own topic's counted messages, the other's stay."""
+    inbox = Inbox(['/tf', '/odom'])
+    inbox.arrived('/odom', '/sim', 1.0)
+    inbox.arrived('/tf', '/sim', 1.5)
+    counts = [('/odom', '/sim', 1), ('/tf', '/sim', 1)]
+    assert inbox.take(counts, key=float, topic='/tf') == [1.5]
+    assert inbox.take(counts, key=float, topic='/tf') == []
+    assert inbox.take(counts, key=float, topic='/odom') == [1.0]
 
 
 def test_the_inbox_takes_uncounted_senders_as_they_come_and_skips_the_lost():

@@ -13,7 +13,8 @@ rospy here (test/unit/test_lockstep.py).
 import collections
 
 __all__ = ['Follower', 'MessageLedger', 'Inbox', 'Report', 'RESEND', 'SILENT',
-           'LOST_MESSAGES', 'HANDLE', 'REPEAT', 'BACK', 'STALE', 'NO_TICK']
+           'LOST_MESSAGES', 'HANDLE', 'REPEAT', 'BACK', 'STALE', 'NO_TICK', 'ALIGN',
+           'aligned']
 
 #: Wall seconds a member waits for a grant, or the owner for a report,
 #: before sending its last message again.
@@ -27,6 +28,17 @@ LOST_MESSAGES = 1.0
 #: A report's ``next`` when the member has no tick of its own (a filter
 #: waiting for its first data): it is granted the next step, whatever it is.
 NO_TICK = 0
+#: ns: a course's first tick is at a multiple of this (:func:`aligned`).
+#: 0.1 s holds a whole number of 10 ms clock steps, 20 ms simulator steps
+#: (50 Hz, on a grid from zero: rbx1_nav.sim.loop_ros) and 50 ms course
+#: ticks (20 Hz), so a course meets the same simulator steps between its
+#: ticks whenever it joined, and ends the same to the last digit.
+ALIGN = 100000000
+
+
+def aligned(time_ns):
+    """The first multiple of ALIGN at or after ``time_ns``."""
+    return -(-time_ns // ALIGN) * ALIGN
 
 #: What a member does with a grant (Follower.grant).
 HANDLE, REPEAT, BACK, STALE = 'handle', 'repeat', 'back', 'stale'
@@ -81,9 +93,18 @@ class MessageLedger(object):
         # Given up as lost on the way (less a restarted sender's old count).
         self.lost = collections.Counter()
         self.counted = {}  # (topic, sender) -> the count in the last grant
+        # (topic, sender, link) -> [messages had (received + lost) before
+        # the link's first, messages on it]: a link is one connection.
+        self.links = {}
 
-    def arrived(self, topic, sender):
-        self.received[(topic, sender)] += 1
+    def arrived(self, topic, sender, link=None):
+        """A message from ``sender`` on ``topic``; ``link`` names the
+        connection it came on (a node started again under its old name
+        comes on a new one), None if unknown."""
+        key = (topic, sender)
+        if link is not None:
+            self.links.setdefault(key + (link,), [self.received[key] + self.lost[key], 0])[1] += 1
+        self.received[key] += 1
 
     def missing(self, counts):
         """[(topic, sender, how many)] of the messages reported in ``counts``
@@ -107,12 +128,28 @@ class MessageLedger(object):
         node started again under the same name, counting from zero; the
         old one's messages (all arrived or lost: it had left) no longer
         count. Without this a simulator would take the new node's first
-        commands as the old one's, and step without waiting for them."""
+        commands as the old one's, and step without waiting for them.
+        Where the links are known, the new node's messages are those on
+        links opened after the old one's counted messages had all come:
+        the old one's stop sent after its last report (it had left) is
+        not taken for one of the new node's."""
         for topic, sender, count in counts:
-            before = self.counted.get((topic, sender), 0)
+            key = (topic, sender)
+            before = self.counted.get(key, 0)
             if count < before:
-                self.lost[(topic, sender)] -= before
-            self.counted[(topic, sender)] = count
+                links = {k: v for k, v in self.links.items() if k[:2] == key}
+                if links:
+                    # The old links go; the new ones count from zero.
+                    new = 0
+                    for link, (first, n) in links.items():
+                        del self.links[link]
+                        if first >= before:
+                            self.links[link] = [0, n]
+                            new += n
+                    self.lost[key] = new - self.received[key]
+                else:
+                    self.lost[key] -= before
+            self.counted[key] = count
 
     def give_up(self, counts):
         """Take the missing messages of ``counts`` as lost; return them."""
@@ -139,25 +176,27 @@ class Inbox(object):
         self.held = collections.defaultdict(collections.deque)  # (topic, sender) -> items
         self.taken = collections.Counter()  # (topic, sender) -> items taken
 
-    def arrived(self, topic, sender, item):
-        self.ledger.arrived(topic, sender)
+    def arrived(self, topic, sender, item, link=None):
+        self.ledger.arrived(topic, sender, link)
         self.held[(topic, sender)].append(item)
 
-    def passed(self, topic, sender):
+    def passed(self, topic, sender, link=None):
         """A message counted but not kept (its member is not taking part:
         nothing would take it, and an idle node must not hoard them)."""
-        self.ledger.arrived(topic, sender)
+        self.ledger.arrived(topic, sender, link)
         self.taken[(topic, sender)] += 1
 
-    def take(self, counts, key):
+    def take(self, counts, key, topic=None):
         """The items the grant's ``counts`` cover that were not taken
         before, plus every item from an uncounted sender, sorted by
         ``key(item)`` (then topic, sender and arrival): the same list on
         every run once :meth:`MessageLedger.missing` is empty. Items
-        counted as lost are skipped."""
+        counted as lost are skipped. With ``topic``, that input's only."""
         counted = {(topic, sender): count for topic, sender, count in counts}
         out = []
         for source, queue in sorted(self.held.items()):
+            if topic is not None and source[0] != topic:
+                continue
             if source in counted:
                 awaited = counted[source] - self.ledger.lost[source]
                 n = min(len(queue), max(0, awaited - self.taken[source]))

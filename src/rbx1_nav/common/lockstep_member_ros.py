@@ -15,7 +15,7 @@ import rospy
 
 from rbx1_nav.common.lockstep_member import (LOST_MESSAGES, REPEAT, RESEND, SILENT,
                                              STALE, Follower, Inbox, MessageLedger)
-from rbx1_nav.common.publish_ros import (from_ns, keep_own_time, publish, sender,
+from rbx1_nav.common.publish_ros import (from_ns, keep_own_time, link, publish, sender,
                                          synchronous_publisher, to_ns)
 from rbx1_nav.msg import LockstepGrant, LockstepReport
 
@@ -288,20 +288,22 @@ class Member(object):
         while a member (a course between two runs keeps nothing)."""
         with self.cond:
             if self.inbox is None:
-                self.ledger.arrived(topic, sender(msg))
+                self.ledger.arrived(topic, sender(msg), link(msg))
             elif self.joined:
-                self.inbox.arrived(topic, sender(msg), item)
+                self.inbox.arrived(topic, sender(msg), item, link(msg))
             else:
-                self.inbox.passed(topic, sender(msg))
+                self.inbox.passed(topic, sender(msg), link(msg))
             self.cond.notify_all()
 
-    def take(self, grant, key):
+    def take(self, grant, key, topic=None):
         """With ``hold``: the items of the messages ``grant`` counts on the
-        inputs (waited for as :meth:`wait_counted` does), in the order of
-        ``key(item)``: the same on every run (rbx1_nav.common.lockstep_member.Inbox)."""
+        inputs (on ``topic`` only, if given; waited for as
+        :meth:`wait_counted` does), in the order of ``key(item)``: the same
+        on every run (rbx1_nav.common.lockstep_member.Inbox)."""
         self.wait_counted(grant)
         with self.cond:
-            return self.inbox.take(zip(grant.topics, grant.senders, grant.counts), key)
+            return self.inbox.take(zip(grant.topics, grant.senders, grant.counts), key,
+                                   topic)
 
     def sent(self, topic):
         """Count a message this member published on ``topic`` (resolved)."""

@@ -1,14 +1,15 @@
 """Publishing helpers shared by every node that keeps time under lockstep:
-ROS times as integer nanoseconds, a message's sender, a publisher that
+ROS times as integer nanoseconds, a message's sender and connection, a publisher that
 writes before publish() returns, a publish that is quiet once rospy shuts
 down, and a node's ROS time kept by the node itself.
 """
+import itertools
 import warnings
 
 import rospy
 import rospy.impl.simtime
 
-__all__ = ['from_ns', 'keep_own_time', 'publish', 'sender',
+__all__ = ['from_ns', 'keep_own_time', 'link', 'publish', 'sender',
            'synchronous_publisher', 'to_ns']
 
 
@@ -25,6 +26,21 @@ def from_ns(ns):
 def sender(msg):
     """The node name that published ``msg`` (rospy keeps it per message)."""
     return msg._connection_header['callerid']
+
+
+_LINKS = itertools.count(1)
+_LINK = '_rbx1_nav_link'
+
+
+def link(msg):
+    """A number for the connection ``msg`` came on, the same for every
+    message on it and never given to another (rospy shares one header dict
+    per connection: the number is kept there)."""
+    header = msg._connection_header
+    number = header.get(_LINK)
+    if number is None:
+        number = header[_LINK] = next(_LINKS)
+    return number
 
 
 def synchronous_publisher(topic, msg_class, **kwargs):

@@ -110,7 +110,9 @@ class MotionRunner(object):
         self.settings = settings
         self.require_tf = require_tf
         self.ticks = Ticks(settings['rate'],
-                           lockstep.Member(inputs=[rospy.resolve_name(TF_TOPIC)], hold=True)
+                           lockstep.Member(inputs=[rospy.resolve_name(TF_TOPIC),
+                                                   rospy.resolve_name(StallWarnings.TOPIC)],
+                                           hold=True)
                            if lockstep.enabled() else None,
                            settings['tf_wait'], settings['tf_timeout'],
                            self.stop)
@@ -123,7 +125,7 @@ class MotionRunner(object):
         rospy.on_shutdown(self.halt)
         self.tf = TfFollower(name, settings['odom_frame'], settings['base_frame'],
                              self.ticks.member)
-        self.stalls = StallWarnings(name)
+        self.stalls = StallWarnings(name, self.ticks.member)
         self.tf_age = TfAgeWarnings(name, settings['max_tf_age'])
         self.clock_watchdog = ClockWatchdog(name, settings['tf_timeout'],
                                             self.stop)
@@ -303,13 +305,13 @@ class MotionRunner(object):
             if fresh_at == now:  # a new transform this tick
                 self.tf_age.check(age, course.predicts, self.tf.odom_frame,
                                   self.tf.followed)
-            self.stalls.check(course)
+            self.stalls.check(course, start, self.ticks.grant)
             self.publish(course.update(pose, t, age))
             for event in course.pop_events():
                 rospy.loginfo(self.robot + event)
             if course.done:
                 self.stop()
-                self.stalls.check(course)
+                self.stalls.check(course, start, self.ticks.grant)
                 course.stalls.end(self.tick_times[-1])
                 if blind:
                     break

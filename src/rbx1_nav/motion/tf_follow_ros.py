@@ -139,7 +139,8 @@ class TfFollower(object):
 
     def _take(self, grant):
         """Note the /tf messages ``grant`` counts (held until it does)."""
-        for who, frames in self.member.take(grant, key=lambda item: 0):
+        for who, frames in self.member.take(grant, key=lambda item: 0,
+                                            topic=self.tf_topic):
             for child, stamp in frames.items():
                 key = (who, child)
                 self.seen[key] = max(stamp, self.seen.get(key, 0))

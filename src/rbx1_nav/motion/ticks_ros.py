@@ -7,6 +7,9 @@ wait for the transform to the end of its course: it joins the owner of
 simulated time, waits for each grant naming
 it (the simulator has published its state at that tick), handles the tick,
 and reports it handled with its next tick 1/~rate s on; time waits for it.
+Its first tick is at a multiple of 0.1 s of simulated time
+(rbx1_nav.common.lockstep_member.ALIGN), so it meets the simulator's steps
+at the same offsets and ends the same whenever it started.
 A node that drives several courses in a row (UMBmark's runs) may stay a
 member between them: time then waits for it between courses too, so each
 course starts at the same simulated time on every run.
@@ -14,7 +17,7 @@ course starts at the same simulated time on every run.
 import rospy
 
 from rbx1_nav.common import lockstep_member_ros as lockstep
-from rbx1_nav.common.lockstep_member import BACK
+from rbx1_nav.common.lockstep_member import BACK, aligned
 from rbx1_nav.common.publish_ros import from_ns
 from rbx1_nav.motion.aborted import CourseAborted
 
@@ -49,6 +52,7 @@ class Ticks(object):
         period = int(round(1e9 / self.rate))
         limit = max(lockstep.GRANT_LIMIT, self.grant_wait)
         wait = limit
+        align = False  # the first tick of a new membership waits for ALIGN
         if self.unreported is not None:  # still a member: the next tick
             member.report(self.unreported, self.unreported + period)
             self.unreported = None
@@ -63,6 +67,7 @@ class Ticks(object):
                                     'Start the simulator with lockstep too, or set '
                                     '/lockstep false' % err)
             joined()
+            align = True
         while True:
             granted = member.wait_grant(wait)
             if granted is None:
@@ -78,6 +83,10 @@ class Ticks(object):
             if action == BACK:
                 raise rospy.ROSTimeMovedBackwardsException(
                     (member.follower.handled - tick) * 1e-9)
+            if align and aligned(tick) != tick:
+                member.report(tick, aligned(tick))  # not a tick of this node's
+                continue
+            align = False
             self.unreported = tick
             yield from_ns(tick)
             self.unreported = None

@@ -96,20 +96,29 @@ def watch_master(name):
 
 class StallWarnings(object):
     """The velocities the robot measured (``odom``), for Course.stalls;
-    ``name`` is the node's, for the warnings."""
+    ``name`` is the node's, for the warnings. Under lockstep ``member``
+    (the node's membership, which awaits ``odom`` among its inputs) holds
+    them until a grant counts them, so a tick reads the same velocities on
+    every run (precise mode waits on them for a still robot)."""
 
-    def __init__(self, name):
+    TOPIC = 'odom'
+
+    def __init__(self, name, member=None):
         self.name = name
+        self.member = member
         # Drained by the control loop, so the course is only touched in
         # one thread.
         self.velocities = collections.deque(maxlen=1000)
-        self.sub = rospy.Subscriber('odom', Odometry, self._on_odom,
+        self.sub = rospy.Subscriber(self.TOPIC, Odometry, self._on_odom,
                                     queue_size=100, tcp_nodelay=True)
 
     def _on_odom(self, msg):
         twist = msg.twist.twist
-        self.velocities.append((msg.header.stamp.to_sec(), twist.linear.x,
-                                twist.angular.z))
+        item = (msg.header.stamp, twist.linear.x, twist.angular.z)
+        if self.member is None:
+            self.velocities.append(item)
+        else:
+            self.member.arrived(self.topic, msg, item)
 
     @property
     def topic(self):
@@ -119,11 +128,18 @@ class StallWarnings(object):
         """True when something publishes the odometry velocities."""
         return self.sub.get_num_connections() != 0
 
-    def check(self, course):
-        """Feed the robot's measured velocities to ``course.stalls``; warn
-        (throttled) of each spell it stood still while commanded to move."""
+    def check(self, course, start, grant=None):
+        """Feed the robot's measured velocities (under lockstep those
+        ``grant`` counts, in stamp order) to ``course.stalls``, their stamps
+        in seconds from ``start`` (the course's first tick, as the course
+        counts time); warn (throttled) of each spell it stood still while
+        commanded to move."""
+        if self.member is not None and grant is not None:
+            self.velocities.extend(self.member.take(grant, key=lambda item: item[0],
+                                                    topic=self.topic))
         while self.velocities:
-            spell = course.stalls.velocity(*self.velocities.popleft())
+            stamp, linear, angular = self.velocities.popleft()
+            spell = course.stalls.velocity((stamp - start).to_sec(), linear, angular)
             if spell is not None:
                 rospy.logwarn_throttle(
                     WARN_PERIOD, '%s: the robot stood still for %.2f s while '

@@ -114,7 +114,9 @@ class _Grid(object):
         _step_at(now, self.step, self.robots)
         self.last = now
         if self.next is None or now >= self.next:
-            self.next = now + self.period
+            # The grid runs from zero, not from when this simulator
+            # started: every course meets the same steps (sim_time.lockstep).
+            self.next = (now // self.period + 1) * self.period
         return self.next
 
 

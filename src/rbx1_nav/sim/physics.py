@@ -42,7 +42,7 @@ from rbx1_nav.sim.floors import FLOORS
 from rbx1_nav.sim.params import PHYSICS_PARAMS, declared_fields
 
 __all__ = ['PhysicsConfig', 'PhysicsFleet',
-           'URDF', 'TIMESTEP', 'MOTOR_GAIN', 'ARMATURE', 'INSTALL_HINT', 'import_mujoco']
+           'URDF', 'TIMESTEP', 'REST_SPEED', 'MOTOR_GAIN', 'ARMATURE', 'INSTALL_HINT', 'import_mujoco']
 
 #: The package's URDF, in a source checkout (a node passes the installed
 #: one's path, from rospkg).
@@ -55,6 +55,13 @@ MOTOR_GAIN = 0.5  # N m per rad/s of wheel speed error, before the torque limit
 #: m^2 under a stiff servo makes MuJoCo's contacts slip while braking.
 ARMATURE = 0.002
 SETTLE = 0.5      # s the robot is left to settle on the floor before time starts
+#: m/s and rad/s: with every body slower than this and no wheel commanded,
+#: the model rests and is not stepped. MuJoCo's soft contacts jitter a
+#: robot at rest by ~1e-10 m/s; over a wait of any length that moved it by
+#: nanometres, enough to tip an encoder tick and make a course's result
+#: depend on how long the robot had stood. A stopped robot gets under it
+#: in about 0.4 s.
+REST_SPEED = 1e-6
 INSTALL_HINT = ('the physics robot needs MuJoCo (Python >= 3.11): '
                 '/usr/bin/python3 -m pip install mujoco (or `make build` in '
                 'the package, which installs it); the kinematic robot (no '
@@ -257,10 +264,11 @@ class PhysicsFleet(DiffDriveFleet):
         self.data.ctrl[:] = wheels.ravel()
         self._elapsed += int(round(dt * 1e9))
         steps = int(round(self._elapsed * 1e-9 / TIMESTEP)) - self._steps
-        if steps > 0:
+        resting = not wheels.any() and np.abs(self.data.qvel).max() < REST_SPEED
+        if steps > 0 and not resting:
             self._mujoco.mj_step(self.model, self.data, nstep=steps)
-            self._steps += steps
             self._truth = None
+        self._steps += max(steps, 0)
         ticks = self._encoder_ticks()
         self._update_odometry((ticks - self._ticks) * (2.0 * math.pi / cfg.encoder_ticks), dt)
         self._ticks = ticks
