@@ -31,7 +31,9 @@ import pytest
 import rosgraph
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'helpers'))
 import link  # noqa: E402
+from ports import free_port  # noqa: E402
 from test_two_hosts import (LINK_GRACE, SHORT_COURSE, TF_TIMEOUT,  # noqa: E402
                             Lines, position)
 
@@ -56,17 +58,6 @@ GAP_LIMIT = 1.5
 assert GAP_LIMIT < master_ros.TIMEOUT
 RESTARTED = 'ROS master at .* restarted'
 POSE = '/robot_pose_ekf/odom_combined'
-
-
-def free_port():
-    for port in PORTS:
-        with socket.socket() as s:
-            try:
-                s.bind(('', port))
-            except OSError:
-                continue
-            return port
-    pytest.skip('no free port in %d-%d' % (PORTS[0], PORTS[-1]))
 
 
 class Graph(object):
@@ -104,7 +95,7 @@ class Graph(object):
 
 @pytest.fixture
 def graph(tmp_path):
-    made = Graph(free_port(), tmp_path)
+    made = Graph(free_port(PORTS), tmp_path)
     try:
         yield made
     finally:

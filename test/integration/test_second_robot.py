@@ -8,11 +8,14 @@ started (rbx1_nav.sim.already_up)."""
 import os
 import shutil
 import signal
-import socket
 import subprocess
+import sys
 import time
 
 import pytest
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'helpers'))
+from ports import free_port  # noqa: E402
 
 pytestmark = pytest.mark.skipif(
     not shutil.which('roslaunch') or 'ROS_PACKAGE_PATH' not in os.environ,
@@ -26,20 +29,9 @@ START_LIMIT = 30.0
 END_LIMIT = 30.0
 
 
-def free_port():
-    for port in PORTS:
-        with socket.socket() as s:
-            try:
-                s.bind(('', port))
-            except OSError:
-                continue
-            return port
-    pytest.skip('no free port in %d-%d' % (PORTS[0], PORTS[-1]))
-
-
 class Graph(object):
     def __init__(self, tmp_path):
-        port = free_port()
+        port = free_port(PORTS)
         self.env = dict(os.environ, ROS_MASTER_URI='http://localhost:%d' % port,
                         ROS_LOG_DIR=str(tmp_path), PYTHONUNBUFFERED='1')
         self.procs = []
