@@ -99,7 +99,10 @@ DIFF_DRIVE_PARAMS = (
     _model('odom_angular_scale_correction', 1.0, 0.0, 100.0),  # driver calibration factor
     _model('left_wheel_radius_error', 1.0, 0.0, 100.0),   # true radius / nominal radius
     _model('right_wheel_radius_error', 1.0, 0.0, 100.0),  # true radius / nominal radius
-    # The driver-side corrections under diff_drive_controller's names:
+    # The driver-side corrections under diff_drive_controller's names. Its
+    # odometry uses them; the physics robot's driver also turns cmd_vel
+    # into wheel speeds with them, as diff_drive_controller does (the
+    # kinematic robot's base runs cmd_vel exactly, whatever its wheels):
     _model('left_wheel_radius_multiplier', 1.0, 0.0, 100.0),
     _model('right_wheel_radius_multiplier', 1.0, 0.0, 100.0),
     _model('wheel_separation_multiplier', 1.0, 0.0, 100.0),

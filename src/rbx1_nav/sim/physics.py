@@ -258,8 +258,13 @@ class PhysicsFleet(DiffDriveFleet):
         """The driver commands wheel speeds, MuJoCo integrates up to the
         step's end, and the encoders, odometry and gyro read the result."""
         cfg = self.config
-        half_track = 0.5 * cfg.wheel_separation
-        wheels = columns(v - w * half_track, v + w * half_track) / cfg.wheel_radius
+        # As diff_drive_controller does, the driver turns (v, w) into wheel
+        # speeds with its multiplied separation and radii: the multipliers
+        # UMBmark prints straighten the robot's path, not only its odometry.
+        half_track = 0.5 * cfg.wheel_separation * cfg.wheel_separation_multiplier
+        radii = cfg.wheel_radius * np.array([cfg.left_wheel_radius_multiplier,
+                                             cfg.right_wheel_radius_multiplier])
+        wheels = columns(v - w * half_track, v + w * half_track) / radii
         wheels[np.abs(wheels) < cfg.motor_deadband] = 0.0
         self.data.ctrl[:] = wheels.ravel()
         self._elapsed += int(round(dt * 1e9))
