@@ -9,7 +9,7 @@ from ``fake_turtlebot.launch`` (or ``fake_turtlebot_ekf.launch``), then
 simulator's ``ground_truth`` after the course (the robot starts at the
 origin, and the out-and-back course ends where it began).
 
-Sections (``--sections``, all by default):
+Sections (``--sections``, all but population by default):
 
 - accuracy: ``--runs`` runs each of {default, precise} x {ideal,
   realistic, realistic + pose_ekf}, lockstep at full speed (pose_ekf, no
@@ -26,6 +26,10 @@ Sections (``--sections``, all by default):
   alone under lockstep at full speed (``idle_speed:=1000000``: unpaced;
   simulated seconds per wall second, read from /clock), the default course at full speed on each, and how
   many physics robots one fake_fleet keeps at 1x (``--robots``).
+
+- population (only when named): the README's calibration procedure on
+  ``--population`` robots drawn from ``--seed`` (bench/population.py;
+  its own tables, bench/results/population_*.md).
 
 Writes bench/results/latest.md, latest.json and latest.png, and prints the
 table. Usage: make bench [BENCH_ARGS="--sections speed --runs 3"]
@@ -46,6 +50,7 @@ import yaml
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 from fleet_scale import cpu_seconds, descendants, free_port  # noqa: E402
+import population  # noqa: E402
 RESULTS = os.path.join(HERE, 'results')
 SUMMARY = re.compile(r'Course complete in ([\d.]+) s')
 #: Clock speed (x real time) for courses that follow pose_ekf, which is no
@@ -457,13 +462,21 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('--sections', nargs='+',
                         default=['accuracy', 'speed', 'scale', 'physics'],
-                        choices=['accuracy', 'speed', 'scale', 'physics'])
+                        choices=['accuracy', 'speed', 'scale', 'physics', 'population'],
+                        help='population (bench/population.py, its own tables) '
+                        'runs only when named: it takes an hour or more')
     parser.add_argument('--runs', type=int, default=10)
     parser.add_argument('--robots', type=int, nargs='+', default=[1, 10, 20, 40, 80])
     parser.add_argument('--out', default=RESULTS)
     parser.add_argument('--render', action='store_true',
                         help='only redo the table and plot from OUT/latest.json')
+    population.add_arguments(parser)
     args = parser.parse_args()
+    if 'population' in args.sections:
+        args.sections.remove('population')
+        print(population.run(args))
+        if not args.sections:
+            return
     # The sections not run keep their figures from the last run (the
     # table says when each was measured).
     results = {}
