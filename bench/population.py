@@ -159,10 +159,10 @@ def model_factors(robot, period=0.05):
 
 # -- one lane: a master of its own, its robots one after another ----------
 
-def run_robot(robot, model, umbmark_runs, watch, workdir, before=True):
+def run_robot(robot, model, umbmark_runs, watch, workdir, short=False):
     """The procedure on one robot; a dict of its figures. ``umbmark_runs``
-    0 leaves UMBmark out, ``before`` False the courses before it (a test's
-    short form)."""
+    0 leaves UMBmark out; ``short`` (a test's form) runs the precise course
+    after the procedure only."""
     import unittest
     from course_harness import FakeRobot, calibrate, course_end_error
     checks = unittest.TestCase()  # the harness's assertions, outside a test
@@ -175,7 +175,7 @@ def run_robot(robot, model, umbmark_runs, watch, workdir, before=True):
 
     fake = FakeRobot.restart(None, watch, base)
     try:
-        if before:
+        if not short:
             course('before_book')
             course('before_precise', precise='true')
         row['linear'] = calibrate(checks, 'linear')[0]
@@ -184,14 +184,18 @@ def run_robot(robot, model, umbmark_runs, watch, workdir, before=True):
                       odom_angular_scale_correction=row['angular'])
         fake = FakeRobot.restart(fake, watch, scaled)
         factors = umbmark_runs and run_umbmark(row, umbmark_runs, workdir)
-        course('scaled_book')
-        course('scaled_precise', precise='true')
+        if not short:
+            course('scaled_book')
+            course('scaled_precise', precise='true')
         if factors:
             multipliers = ('left_wheel_radius_multiplier', 'right_wheel_radius_multiplier',
                            'wheel_separation_multiplier')
             fake = FakeRobot.restart(fake, watch, dict(
                 scaled, **{name: factors[name] for name in multipliers}))
-            course('after_book')
+            if not short:
+                course('after_book')
+            course('after_precise', precise='true')
+        elif short:
             course('after_precise', precise='true')
         else:
             # UMBmark changed nothing: the courses just run are the after ones.
@@ -243,7 +247,7 @@ def lane(job, out):
             started = time.monotonic()
             try:
                 row = run_robot(robot, job['model'], job['umbmark_runs'], watch, workdir,
-                                job.get('before', True))
+                                job['short'])
             except (AssertionError, OSError, RuntimeError) as e:
                 row = dict(robot, model=job['model'], failed=str(e).splitlines()[0][:300])
             row['wall_s'] = round(time.monotonic() - started, 1)
@@ -256,15 +260,15 @@ def lane(job, out):
 
 # -- the population: lanes, table, plot ----------------------------------
 
-def run_model(robots, model, lanes, umbmark_runs, log=print, before=True):
+def run_model(robots, model, lanes, umbmark_runs, log=print, short=False):
     """Every robot on ``model`` in ``lanes`` lanes (:func:`run_robot`'s
-    ``umbmark_runs`` and ``before``); rows ordered by id."""
+    ``umbmark_runs`` and ``short``); rows ordered by id."""
     workdir = tempfile.mkdtemp(prefix='population_%s_' % model)
     procs, outs = [], []
     for k in range(lanes):
         job, out = (os.path.join(workdir, 'lane%d.%s' % (k, ext)) for ext in ('json', 'rows'))
         with open(job, 'w') as f:
-            json.dump({'model': model, 'umbmark_runs': umbmark_runs, 'before': before,
+            json.dump({'model': model, 'umbmark_runs': umbmark_runs, 'short': short,
                        'robots': robots[k::lanes]}, f)
         open(out, 'w').close()
         log_file = open(os.path.join(workdir, 'lane%d.log' % k), 'w')
