@@ -192,7 +192,7 @@ class Inbox(object):
         ``key(item)`` (then topic, sender and arrival): the same list on
         every run once :meth:`MessageLedger.missing` is empty. Items
         counted as lost are skipped. With ``topic``, that input's only."""
-        counted = {(topic, sender): count for topic, sender, count in counts}
+        counted = {(t, s): count for t, s, count in counts}
         out = []
         for source, queue in sorted(self.held.items()):
             if topic is not None and source[0] != topic:
