@@ -245,20 +245,22 @@ CORRECTION = re.compile(r'(odom_(?:linear|angular)_scale_correction) = '
                         r'measured / odometry = \S+ / \S+ = (\S+)')
 
 
-def calibrate(test, kind, **params):
+def calibrate(test, kind, wall_limit=WALL_LIMIT, **params):
     """Run calibrate_<kind>.py once with ground_truth as the tape measure,
     stop it with Ctrl-C as a user does; assert it printed its correction
-    and exited 0. Returns (the correction, the node's output)."""
+    (within ``wall_limit`` wall seconds, a guard against a hang) and exited
+    0. Returns (the correction, the node's output)."""
     node = CourseProcess(script='calibrate_%s.py' % kind, params=dict(
         {'start_test': 'true', 'ground_truth_topic': 'ground_truth',
          'tf_timeout': 5.0}, **params))
     try:
         found = []
         printed = wait_until(lambda: found.extend(
-            CORRECTION.findall(node.output)) or found, wall_limit=120.0)
-        test.assertTrue(printed, 'no correction printed:\n' + node.output)
+            CORRECTION.findall(node.output)) or found, wall_limit=wall_limit)
+        test.assertTrue(printed, 'no correction printed in %.0f s (wall):\n%s'
+                        % (wall_limit, node.output))
         node.interrupt()
-        test.assertEqual(node.wait(), 0, node.output)
+        test.assertEqual(node.wait(wall_limit), 0, node.output)
     finally:
         node.cleanup()
     name, value = found[0]
@@ -267,15 +269,16 @@ def calibrate(test, kind, **params):
 
 
 def course_end_error(test, watch, script='odom_out_and_back.py', rest=0.5,
-                     **params):
-    """Run ``script`` with ``params`` to its end (asserting exit 0), let
-    the robot rest ``rest`` simulated seconds; return the true distance
-    (m) and heading change (deg, absolute) from its start."""
+                     wall_limit=WALL_LIMIT, **params):
+    """Run ``script`` with ``params`` to its end (asserting exit 0 within
+    ``wall_limit`` wall seconds, a guard against a hang), let the robot
+    rest ``rest`` simulated seconds; return the true distance (m) and
+    heading change (deg, absolute) from its start."""
     import math
     start = watch.pose()
     node = CourseProcess(script=script, params=dict({'tf_timeout': 5.0}, **params))
     try:
-        test.assertEqual(node.wait(), 0, node.output)
+        test.assertEqual(node.wait(wall_limit), 0, node.output)
     finally:
         node.cleanup()
     wait_sim(rest)

@@ -27,11 +27,11 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from course_harness import CourseProcess, FakeRobot, RobotWatch  # noqa: E402
 
 
-def umbmark(params):
+def umbmark(params, wall_limit=250.0):
     """Run umbmark.py with ``params``; return (exit status, output)."""
     node = CourseProcess(script='umbmark.py', params=params)
     try:
-        return node.wait(wall_limit=250.0), node.output
+        return node.wait(wall_limit=wall_limit), node.output
     finally:
         node.cleanup()
 
