@@ -223,7 +223,7 @@ def run_umbmark(row, runs, workdir):
     results = os.path.join(workdir, 'umbmark_%s_%d.yaml' % (row['model'], row['id']))
     status, output = umbmark({'runs': runs, 'side': 1.0, 'run_pause': 0.0,
                               'ground_truth_topic': 'ground_truth',
-                              'results': results, 'plot': results[:-4] + 'png'},
+                              'results': results, 'plot': ''},
                              NODE_WALL_LIMIT)
     unittest.TestCase().assertEqual(status, 0, output)
     with open(results) as f:
@@ -247,7 +247,12 @@ def lane(job, out):
     clock = subprocess.Popen(['roslaunch', 'rbx1_nav', 'sim_clock.launch', 'sim_speed:=max'],
                              env=bench.env, stdout=subprocess.DEVNULL,
                              stderr=subprocess.DEVNULL, start_new_session=True)
-    from course_harness import RobotWatch
+    from course_harness import RobotWatch, wait_until
+    # A robot reads /use_sim_time and /lockstep once, as it starts: not
+    # before the launch has set them (it would run on wall time, and its
+    # course refuse it).
+    if not wait_until(lambda: bench.rospy.has_param('/lockstep'), 60.0):
+        raise RuntimeError('sim_clock.launch set no /lockstep within 60 s')
     watch = RobotWatch()
     workdir = tempfile.mkdtemp(prefix='population_')
     try:
@@ -257,6 +262,7 @@ def lane(job, out):
                 row = run_robot(robot, job['model'], job['umbmark_runs'], watch, workdir,
                                 job['short'])
             except (AssertionError, OSError, RuntimeError) as e:
+                print('robot %d failed:\n%s' % (robot['id'], e), flush=True)  # the lane's log
                 row = dict(robot, model=job['model'], failed=str(e).splitlines()[0][:300])
             row['wall_s'] = round(time.monotonic() - started, 1)
             with open(out, 'a') as f:

@@ -24,7 +24,7 @@ from zero, rbx1_nav.calibration.umbmark), the factors for the driver
 odom_angular_scale_correction); otherwise it says that E_max,syst is within
 the noise and about how many runs would be needed. It writes them to
 ~results (YAML; corrections null when not supported) and plots them to
-~plot (PNG), together with an earlier ~compare results file.
+~plot (PNG; empty: no plot), together with an earlier ~compare results file.
 
 The paper's squares have 4 m sides; ~side defaults to 1 m. Exit status 0
 with a result, 1 otherwise.
@@ -59,7 +59,8 @@ PARAMS = (
     param('odometry', [], params.pairs, 'm',
           "odometry's return positions of the same runs"),
     param('results', 'umbmark.yaml', params.text, '', 'results file (YAML)'),
-    param('plot', 'umbmark.png', params.text, '', 'plot file (PNG)'),
+    param('plot', 'umbmark.png', params.text, '', 'plot file (PNG); empty for none',
+          allow_empty=True),
     param('compare', '', params.text, '', 'an earlier results file to plot '
           'beside these (before / after)', allow_empty=True),
 ) + tuple(p for p in PRECISE_PARAMS if p.name != 'precise') + common_params(

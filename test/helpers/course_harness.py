@@ -1,13 +1,14 @@
 """Shared plumbing for the out-and-back rostests (imported, not a node).
 
 ``CourseProcess`` starts a motion node (``odom_out_and_back.py`` by default)
-the way a user does, with ``rosrun``, so a test sees its exit status and its
-log lines.
+as ``rosrun`` does (:func:`node_path`: the same executable, found once), so
+a test sees its exit status and its log lines.
 ``FakeRobot`` starts the simulator with given parameters, for tests that
 restart it. ``RobotWatch`` follows one robot's ``ground_truth`` (the simulator's true
 pose) and ``cmd_vel`` (what the course commanded), optionally in a namespace.
 Times are ROS times, so under /use_sim_time they are simulated seconds.
 """
+import functools
 import os
 import re
 import signal
@@ -16,6 +17,7 @@ import tempfile
 import threading
 import time
 
+import roslib.packages
 import rospkg
 import rospy
 from geometry_msgs.msg import Twist
@@ -123,9 +125,21 @@ class RosoutWatch(object):
         return found[-1].header.stamp if found[-1] else None
 
 
+@functools.lru_cache(maxsize=None)
+def node_path(script):
+    """The executable ``rosrun rbx1_nav SCRIPT`` starts, looked up once per
+    test process: rosrun looks it up at every start, for half a CPU second
+    (a population bench starts eight nodes a robot)."""
+    found = roslib.packages.find_node('rbx1_nav', script)
+    if not found:
+        raise AssertionError('rbx1_nav has no node %s: is the workspace built '
+                             'and sourced?' % script)
+    return found[0]
+
+
 class CourseProcess(object):
     """A motion node (odom_out_and_back.py unless ``script`` says otherwise)
-    run through rosrun, its output collected; ``remaps`` maps topic names
+    run as rosrun runs it, its output collected; ``remaps`` maps topic names
     (``{'/tf': 'tf'}``) as ``from:=to`` on its command line; ``leftovers``
     are private parameters set on the master, not on its command line, as
     an earlier run leaves them."""
@@ -133,7 +147,7 @@ class CourseProcess(object):
     def __init__(self, ns='', params=None, name=None,
                  script='odom_out_and_back.py', remaps=None, leftovers=None):
         name = name or script[:-len('.py')]
-        args = ['rosrun', 'rbx1_nav', script, '__name:=' + name]
+        args = [node_path(script), '__name:=' + name]
         self.node_name = '/' + _join(ns.strip('/'), name)
         if ns:
             args.append('__ns:=' + ns)
@@ -209,7 +223,7 @@ class CourseProcess(object):
 
 
 class FakeRobot(object):
-    """fake_turtlebot.py under rosrun, with the given private parameters."""
+    """fake_turtlebot.py as rosrun runs it, with the given private parameters."""
 
     def __init__(self, settings):
         rospy.set_param('/fake_turtlebot', settings)
@@ -218,7 +232,7 @@ class FakeRobot(object):
         self.log = tempfile.NamedTemporaryFile(
             prefix='fake_turtlebot_', suffix='.log', delete=False,
             dir=rospkg.get_log_dir() if os.path.isdir(rospkg.get_log_dir()) else None)
-        self.proc = subprocess.Popen(['rosrun', 'rbx1_nav', 'fake_turtlebot.py'],
+        self.proc = subprocess.Popen([node_path('fake_turtlebot.py')],
                                      stdout=self.log, stderr=subprocess.STDOUT)
 
     def close(self):

@@ -112,9 +112,12 @@ def report_results(values, odometry, measured):
         results = [umbmark.load(values['compare']), result]
         labels = ['before', 'after']
         rospy.loginfo('%s: %s', NAME, umbmark.compare_text(results[0], result))
-    umbmark.plot(results, values['plot'], labels)
-    rospy.loginfo('%s: results in %s, plot in %s', NAME, results_path,
-                  os.path.abspath(values['plot']))
+    if values['plot']:
+        umbmark.plot(results, values['plot'], labels)
+        rospy.loginfo('%s: results in %s, plot in %s', NAME, results_path,
+                      os.path.abspath(values['plot']))
+    else:
+        rospy.loginfo('%s: results in %s (~plot empty: no plot)', NAME, results_path)
     return result
 
 

@@ -109,7 +109,11 @@ def raw(name, value):
 
 
 def text(name, value, allow_empty=False):
-    """``value`` as a string with surrounding whitespace removed."""
+    """``value`` as a string with surrounding whitespace removed. Where
+    empty is allowed, None is empty too: ``_plot:=`` on a command line
+    sets YAML's empty value, None."""
+    if value is None and allow_empty:
+        return ''
     if not isinstance(value, str):
         raise ValueError('%s must be a string, got %.200r' % (name, value))
     result = value.strip()
