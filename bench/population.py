@@ -244,7 +244,12 @@ def lane(job, out):
     # clock and master: SIGTERM unwinds through the finally clauses.
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(1))
     bench = Bench()
-    clock = subprocess.Popen(['roslaunch', 'rbx1_nav', 'sim_clock.launch', 'sim_speed:=max'],
+    # Between two nodes of the procedure only the robot is a member: at
+    # sim_clock's idle speed (10x by default) it steps 500 times a wall
+    # second for nothing (this lane waits in wall time: its node started
+    # before /use_sim_time was set).
+    clock = subprocess.Popen(['roslaunch', 'rbx1_nav', 'sim_clock.launch', 'sim_speed:=max',
+                              'idle_speed:=1'],
                              env=bench.env, stdout=subprocess.DEVNULL,
                              stderr=subprocess.DEVNULL, start_new_session=True)
     from course_harness import RobotWatch, wait_until
