@@ -34,7 +34,7 @@ is shown with each run. ``--burners 0`` runs each test twice as it is:
 what differs then is scatter from run to run, whatever the load. Not a test: run it on demand (source the
 workspace first, as `make bench` does), e.g.
 
-    python3 bench/determinism.py --tests nav_square.test umbmark.test
+    python3 bench/determinism.py --tests courses.test umbmark.test
     python3 bench/determinism.py            # every file: slow
 
 Prints, per test, "same" or the figures that differ (idle, loaded), and a

@@ -378,16 +378,17 @@ def launched_node_status(process, wall_limit=10.0):
     return (int(end.group(3)) if end.group(3) else 'died without exit code'), log
 
 
-def check_completed_course(test, watch, course, start, expected_end=None):
+def check_completed_course(test, watch, course, start, expected_end=None,
+                           tolerances=None):
     """Assert the course exited 0 and left the robot stopped near its goal.
 
-    Tolerances come from the test's private parameters
-    ~position_tolerance (m) and ~heading_tolerance (deg). Returns the
+    ``tolerances`` (m, deg), by default the test's private parameters
+    ~position_tolerance and ~heading_tolerance. Returns the
     (position error m, heading error deg) measured on ground_truth.
     """
     import math
-    position_tolerance = float(rospy.get_param('~position_tolerance'))
-    heading_tolerance = float(rospy.get_param('~heading_tolerance'))
+    position_tolerance, heading_tolerance = (float(value) for value in tolerances or (
+        rospy.get_param('~position_tolerance'), rospy.get_param('~heading_tolerance')))
     status = course.wait()
     test.assertEqual(status, 0, 'course exited %s:\n%s' % (status, course.output))
     test.assertIn('Course complete', course.output)

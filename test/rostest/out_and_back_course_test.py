@@ -1,17 +1,22 @@
 #!/usr/bin/env python3
-"""One course on the fake robot, judged on its true end pose.
+"""Courses on the fake robot, one after another, each judged on its true
+end pose.
 
-Shared by the course tests: out_and_back_precise.test (~precise),
-out_and_back_base_link.test (a robot with no base_footprint),
-timed_out_and_back*.test and nav_square*.test. (The odometry course in the
-book's mode on the ideal robot is checked by lockstep_course_test.py, in
-lockstep_1x.test and lockstep_max_loaded.test.)
-~node names the course node (odom_out_and_back.py by default); every one of
-these courses ends where it began. Passes if the node exits 0 and the
-simulator's ground_truth ends within ~position_tolerance (m) and
-~heading_tolerance (deg) of the start, with the robot stopped.
-~course_params (dict) go to the course node as private parameters; every
-string in ~expect_in_output must appear in its log.
+Used by courses.test (the course nodes on the ideal robot) and
+out_and_back_base_link.test (a robot with no base_footprint). (The
+odometry course in the book's mode on the ideal robot is checked by
+lockstep_course_test.py, in lockstep_1x.test and lockstep_max_loaded.test.)
+
+~courses is a list, one test case per entry, run in its order, each from
+where the previous one left the robot. An entry names its case (``name``)
+and may give: ``node``, the course node (odom_out_and_back.py by default;
+every one of these courses ends where it began); ``course_params`` (dict),
+its private parameters; ``position_tolerance`` (m) and
+``heading_tolerance`` (deg); ``expect_in_output``, strings that must
+appear in its log. A case passes if the node exits 0 and the simulator's
+ground_truth ends within the tolerances of where that course started,
+with the robot stopped. Without ~courses, one course from the private
+parameters of those names.
 """
 import os
 import sys
@@ -24,23 +29,47 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from course_harness import (CourseProcess, RobotWatch,  # noqa: E402
                             check_completed_course)
 
+KEYS = ('node', 'course_params', 'position_tolerance', 'heading_tolerance',
+        'expect_in_output')
+
+
+def courses():
+    """~courses, or one course from the private parameters."""
+    if rospy.has_param('~courses'):
+        return rospy.get_param('~courses')
+    return [dict({'name': 'course'},
+                 **{key: rospy.get_param('~' + key) for key in KEYS
+                    if rospy.has_param('~' + key)})]
+
 
 class CourseTest(unittest.TestCase):
+    watch = None
 
-    def test_course_returns_to_start(self):
-        watch = RobotWatch()
-        start = watch.wait_for_truth()
-        course = CourseProcess(params=rospy.get_param('~course_params', {}),
-                               script=rospy.get_param('~node',
-                                                      'odom_out_and_back.py'))
+    @classmethod
+    def setUpClass(cls):
+        cls.watch = RobotWatch()
+
+    def run_course(self, entry):
+        start = self.watch.wait_for_truth()
+        course = CourseProcess(params=entry.get('course_params', {}),
+                               script=entry.get('node', 'odom_out_and_back.py'))
         try:
-            check_completed_course(self, watch, course, start)
+            check_completed_course(self, self.watch, course, start, tolerances=(
+                entry['position_tolerance'], entry['heading_tolerance']))
         finally:
             course.cleanup()
-        for text in rospy.get_param('~expect_in_output', []):
+        for text in entry.get('expect_in_output', []):
             self.assertIn(text, course.output)
+
+
+def add_cases(entries):
+    """A test method per entry, numbered so that unittest keeps their order."""
+    for k, entry in enumerate(entries, 1):
+        setattr(CourseTest, 'test_%02d_%s' % (k, entry['name']),
+                lambda self, entry=entry: self.run_course(entry))
 
 
 if __name__ == '__main__':
     rospy.init_node('out_and_back_course_test')
+    add_cases(courses())
     rostest.rosrun('rbx1_nav', 'out_and_back_course', CourseTest)
