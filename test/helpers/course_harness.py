@@ -387,8 +387,10 @@ def check_completed_course(test, watch, course, start, expected_end=None,
     (position error m, heading error deg) measured on ground_truth.
     """
     import math
-    position_tolerance, heading_tolerance = (float(value) for value in tolerances or (
-        rospy.get_param('~position_tolerance'), rospy.get_param('~heading_tolerance')))
+    if tolerances is None:
+        tolerances = (rospy.get_param('~position_tolerance'),
+                      rospy.get_param('~heading_tolerance'))
+    position_tolerance, heading_tolerance = (float(value) for value in tolerances)
     status = course.wait()
     test.assertEqual(status, 0, 'course exited %s:\n%s' % (status, course.output))
     test.assertIn('Course complete', course.output)

@@ -16,9 +16,10 @@ import pytest
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 NODES = sorted(p for p in glob.glob(os.path.join(ROOT, 'nodes', '*.py'))
                # plot_course.py: argparse --help; end_launch_on_success.py: a
-               # launch-prefix, launch_status.py: runs roslaunch; not nodes
+               # launch-prefix, unless_running.py: another node's wrapper,
+               # launch_status.py: runs roslaunch; not nodes
                if not p.endswith(('plot_course.py', 'end_launch_on_success.py',
-                                  'launch_status.py')))
+                                  'unless_running.py', 'launch_status.py')))
 
 
 def readme_rows():

@@ -8,15 +8,16 @@ odometry course in the book's mode on the ideal robot is checked by
 lockstep_course_test.py, in lockstep_1x.test and lockstep_max_loaded.test.)
 
 ~courses is a list, one test case per entry, run in its order, each from
-where the previous one left the robot. An entry names its case (``name``)
-and may give: ``node``, the course node (odom_out_and_back.py by default;
-every one of these courses ends where it began); ``course_params`` (dict),
-its private parameters; ``position_tolerance`` (m) and
-``heading_tolerance`` (deg); ``expect_in_output``, strings that must
-appear in its log. A case passes if the node exits 0 and the simulator's
-ground_truth ends within the tolerances of where that course started,
-with the robot stopped. Without ~courses, one course from the private
-parameters of those names.
+where the previous one left the robot (a course that fails leaves the
+robot wherever it stopped: the next ones still measure from there). An
+entry has ``name`` (its case's), ``position_tolerance`` (m) and
+``heading_tolerance`` (deg), and may give ``node``, the course node
+(odom_out_and_back.py by default; every one of these courses ends where
+it began), ``course_params`` (dict), its private parameters, and
+``expect_in_output``, strings that must appear in its log. A case passes
+if the node exits 0 and the simulator's ground_truth ends within the
+tolerances of where that course started, with the robot stopped. Without
+~courses, one course from the private parameters of those names.
 """
 import os
 import sys

@@ -146,8 +146,10 @@ def test_text():
     for bad in ('', 7, None):
         with pytest.raises(ValueError, match='~left_wheel_joint must'):
             text('~left_wheel_joint', bad)
-    # `rosrun ... _plot:=` sets None: empty, where empty is allowed.
+    # `rosrun ... _plot:=` sets None: empty, where empty is allowed (a
+    # frame too: _imu_frame:= is the automatic frame).
     assert text('~plot', None, allow_empty=True) == ''
+    assert frame('~imu_frame', None, allow_empty=True) == ''
     with pytest.raises(ValueError, match='~plot must be a string'):
         text('~plot', 7, allow_empty=True)
 

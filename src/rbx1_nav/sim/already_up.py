@@ -7,7 +7,7 @@ ones down, and roscpp's robot_state_publisher takes the new one down with
 it: no robot at all. Instead the new launch's nodes look first
 (rbx1_nav.sim.already_up_ros): the fake robot refuses with
 :func:`refusal_text` and ends its launch; robot_state_publisher, sim_clock
-and RViz, started through its launch-prefix, leave the running ones
+and RViz, started through nodes/unless_running.py, leave the running ones
 alone (:func:`skip_text`).
 """
 

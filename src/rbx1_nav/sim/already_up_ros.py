@@ -1,16 +1,6 @@
 """Look before registering: is a node of this name already running?
 (the logic and lines: rbx1_nav.sim.already_up).
 
-Run as a module it is a launch-prefix that starts a node unless a running
-node already holds its name (:func:`exec_unless_running`)::
-
-  <node ... launch-prefix="python3 -m rbx1_nav.sim.already_up_ros">
-
-A second fake_turtlebot.launch would otherwise shut down the running
-robot's robot_state_publisher, sim_clock and RViz. A module, not a rosrun
-script: rosrun's package search costs half a CPU second, more than the
-check, at every start of a launch file (every rostest).
-
 The master shuts a node down when another registers under its name, so
 these checks run before ``rospy.init_node``, through the master's XML-RPC
 API only, each call with a socket timeout: a name counts as taken when
@@ -95,11 +85,20 @@ def refuse_if_running(default, argv=None, environ=None):
 
 
 def exec_unless_running(argv, environ=None):
-    """The launch-prefix (this module's main): run the node ``argv`` (exec, so roslaunch's
-    signals reach it) unless a running node holds its name; then print why
-    not and return 0."""
-    if not argv or argv[0] in ('-h', '--help'):
+    """nodes/unless_running.py: ``argv`` is PKG TYPE ARGS... (roslaunch
+    adds ``__name:=``). Run the node roslaunch would start for PKG's TYPE
+    (exec, so roslaunch's signals reach it) unless a running node holds its
+    name; then print why not and return 0. None for a usage error, 1 for a
+    node that is not there."""
+    if len(argv) < 2 or argv[0] in ('-h', '--help'):
         return None
+    import roslib.packages
+    found = roslib.packages.find_node(argv[0], argv[1])
+    if not found:
+        print('[ERROR] unless_running.py: package %s has no node %s (is it built, '
+              'and its workspace sourced?)' % (argv[0], argv[1]), flush=True)
+        return 1
+    argv = [found[0]] + argv[2:]
     environ = os.environ if environ is None else environ
     name = resolved_name(argv, environ.get('ROS_NAMESPACE', ''),
                          os.path.basename(argv[0]))
@@ -108,19 +107,3 @@ def exec_unless_running(argv, environ=None):
         print('[WARN] %s' % skip_text(name, pid), flush=True)
         return 0
     os.execvp(argv[0], argv)
-
-
-def main(argv):
-    """``python3 -m rbx1_nav.sim.already_up_ros NODE ARGS...``: the exit
-    status when the node does not start (the usage: 2)."""
-    status = exec_unless_running(argv)
-    if status is None:
-        print(__doc__.strip())
-        return 0 if argv else 2
-    return status
-
-
-if __name__ == '__main__':
-    # Ctrl-C (or the launch ending) before the node starts: end quietly.
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
-    sys.exit(main(sys.argv[1:]))
