@@ -28,6 +28,7 @@ from rbx1_nav.motion.command import pose_error
 from rbx1_nav.transform_utils import Pose2D, quat_to_angle
 
 WALL_LIMIT = 120.0  # s; a guard so a broken run fails instead of hanging
+STILL = 1e-4  # m/s and rad/s: a robot slower than this is at rest
 
 
 def _join(ns, name):
@@ -82,6 +83,11 @@ class RobotWatch(object):
         with self.lock:
             t = self.truth.twist.twist
         return t.linear.x, t.angular.z
+
+    def still(self, speed=STILL):
+        """True while the simulated robot moves slower than ``speed`` (m/s
+        and rad/s alike)."""
+        return all(abs(value) < speed for value in self.true_speed())
 
     def moved_since(self, start):
         """Metres between the true pose now and ``start``."""
@@ -289,6 +295,11 @@ def course_end_error(test, watch, script='odom_out_and_back.py', rest=0.5,
     rest ``rest`` simulated seconds; return the true distance (m) and
     heading change (deg, absolute) from its start."""
     import math
+    # The node before may have ended with its last stop still in flight:
+    # the start is where the robot comes to rest, not wherever it was
+    # when the wall clock got here.
+    test.assertTrue(wait_until(watch.still, wall_limit), 'the robot is still moving '
+                    'at %s before the course' % (watch.true_speed(),))
     start = watch.pose()
     node = CourseProcess(script=script, params=dict({'tf_timeout': 5.0}, **params))
     try:
