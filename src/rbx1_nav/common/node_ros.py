@@ -25,16 +25,24 @@ from rbx1_nav.common.ros_time import no_clock_text
 
 
 def _shutdown_on_signal(signum, frame):
-    """SIGINT/SIGTERM: shut rospy down from another thread.
+    """A signal: shut rospy down from another thread.
 
     rospy's own handler calls signal_shutdown in the main thread, inside
-    whatever that thread was doing; during a call to the master (a
+    whatever that thread was doing. During a call to the master (a
     set_param, say) it then waits for the master connection's lock that the
-    interrupted call holds, and the node hangs. From a thread of its own,
-    the shutdown waits for the call to finish instead.
+    interrupted call holds, and the node hangs; during a publish, the
+    shutdown hook's stop goes out first and the interrupted command after
+    it. From a thread of its own, the shutdown waits for either to finish.
     """
     threading.Thread(target=rospy.signal_shutdown, daemon=True,
                      args=('signal %d' % signum,)).start()
+
+
+def shut_down_on_signals(signums=(signal.SIGINT, signal.SIGTERM)):
+    """Handle ``signums`` with :func:`_shutdown_on_signal`; before
+    ``rospy.init_node(..., disable_signals=True)``."""
+    for signum in signums:
+        signal.signal(signum, _shutdown_on_signal)
 
 
 def exit_if_help(specs, doc):
@@ -130,8 +138,7 @@ def start_node(name, specs, doc, clock=True):
     """
     exit_if_help(specs, doc)
     wait_for_master(name)
-    for signum in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(signum, _shutdown_on_signal)
+    shut_down_on_signals()
     rospy.init_node(name, disable_signals=True)
     cache_rosout_setting()
     if clock and not wait_for_clock(CLOCK_WAIT):

@@ -21,7 +21,7 @@ from geometry_msgs.msg import Twist
 
 from rbx1_nav.common import params
 from rbx1_nav.common.cmd_vel_watch_ros import watch_publishers
-from rbx1_nav.common.node_ros import exit_if_help
+from rbx1_nav.common.node_ros import exit_if_help, shut_down_on_signals
 from rbx1_nav.motion.teleop import NOT_A_TERMINAL, KeyboardTeleop, check_settings, help_text
 from rbx1_nav.motion.command import STOP
 
@@ -78,9 +78,9 @@ class TeleopKeyboard(object):
         with warnings.catch_warnings():
             warnings.simplefilter('ignore', SyntaxWarning)
             self.cmd_vel = rospy.Publisher('cmd_vel', Twist, tcp_nodelay=True)
-        # Reentrant: a signal's shutdown hook runs in the main thread, maybe
-        # while it is publishing; rosnode kill runs it in another thread.
-        self.lock = threading.RLock()
+        # Shutdown hooks run in a thread of their own (a signal's too, see
+        # main), so the stop waits for a publish in progress and goes after.
+        self.lock = threading.Lock()
         self.stopped = False
         self.shown = None
         rospy.on_shutdown(self.stop)
@@ -143,7 +143,9 @@ def main(specs, doc):
     if not os.isatty(0):
         sys.stderr.write(NOT_A_TERMINAL + '\n')
         return 1
-    rospy.init_node('teleop_keyboard')
+    # Closing the terminal window (SIGHUP) must stop the robot too.
+    shut_down_on_signals((signal.SIGINT, signal.SIGTERM, signal.SIGHUP))
+    rospy.init_node('teleop_keyboard', disable_signals=True)
     try:
         settings = check_settings(
             lambda name, default: rospy.get_param('~' + name, default),
@@ -153,9 +155,6 @@ def main(specs, doc):
         return 1
     rospy.loginfo('teleop_keyboard: publishing %s; %s', rospy.resolve_name(
         'cmd_vel'), params.describe(specs, settings))
-    # Closing the terminal window (SIGHUP) must stop the robot too.
-    signal.signal(signal.SIGHUP, lambda signum, frame: rospy.signal_shutdown(
-        'terminal closed'))
     node = TeleopKeyboard(settings)
     watch_publishers('teleop_keyboard', [node.cmd_vel.resolved_name],
                      own=rospy.get_name())
