@@ -18,7 +18,8 @@ compared as printed, so the precision a test prints is the precision
 compared. The lines of the two runs are paired by their text with the
 numbers taken out (and paths, such as a temporary directory, too), in
 order; a line only one run printed is listed as such. Log lines
-(``[INFO] [wall, sim]: ...``) lose their time stamps first.
+(``[INFO] [wall, sim]: ...``) lose their time stamps first; one printed
+into the middle of another line is taken out of it as a line of its own.
 
 Wall-clock figures. A figure that measures wall time (a latency in wall
 seconds, a speed ratio) is meant to change with the load and is listed
@@ -59,6 +60,9 @@ NUMBER = re.compile(r'(?<![\w./])[-+]?(?:nan|inf|(?:\d+(?:\.\d+)?|\.\d+)(?:[eE][
                     r'(?!\w|\.\d)')
 PATH = re.compile(r'(?<![\w/])/[^\s,;:)\'"]+')
 LOG_STAMP = re.compile(r'^\[\s*(DEBUG|INFO|WARN|ERROR|FATAL)\s*\]\s*\[[^\]]*\]:\s*')
+#: Where a log line starts inside another line: a node's log output and a
+#: test's print share one stdout, so a log line can land mid-line.
+LOG_START = re.compile(r'(?=\[\s*(?:DEBUG|INFO|WARN|ERROR|FATAL)\s*\]\s*\[[\d.,\s]*\]:)')
 UNIT_END = re.compile(r'[,;:=]|\s[\w.]+=')
 WALL = re.compile(r'\bwall\b', re.IGNORECASE)
 
@@ -76,7 +80,8 @@ def node_outputs(ros_home):
                 found = re.search(r'<system-out>(.*?)</system-out>', f.read(), re.S)
             text = found.group(1) if found else ''
         text = text.replace('<![CDATA[', '').replace(']]>', '')
-        outputs[name] = [line.strip() for line in text.splitlines() if line.strip()]
+        outputs[name] = [part.strip() for line in text.splitlines()
+                         for part in LOG_START.split(line) if part.strip()]
     return outputs
 
 
