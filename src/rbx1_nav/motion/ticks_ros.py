@@ -7,9 +7,10 @@ wait for the transform to the end of its course: it joins the owner of
 simulated time, waits for each grant naming
 it (the simulator has published its state at that tick), handles the tick,
 and reports it handled with its next tick 1/~rate s on; time waits for it.
-Its first tick is at a multiple of 0.1 s of simulated time
-(rbx1_nav.common.lockstep_member.ALIGN), so it meets the simulator's steps
-at the same offsets and ends the same whenever it started.
+Its first tick is the first multiple of 0.1 s of simulated time
+(rbx1_nav.common.lockstep_member.ALIGN) after the step it joined at, so it
+meets the simulator's steps at the same offsets and ends the same whenever
+it started.
 A node that drives several courses in a row (UMBmark's runs) may stay a
 member between them: time then waits for it between courses too, so each
 course starts at the same simulated time on every run.
@@ -52,7 +53,9 @@ class Ticks(object):
         period = int(round(1e9 / self.rate))
         limit = max(lockstep.GRANT_LIMIT, self.grant_wait)
         wait = limit
-        align = False  # the first tick of a new membership waits for ALIGN
+        # A new membership: its first grant (the join grant) is not a tick;
+        # then align is the first tick, the next multiple of ALIGN after it.
+        align = False
         if self.unreported is not None:  # still a member: the next tick
             member.report(self.unreported, self.unreported + period)
             self.unreported = None
@@ -83,8 +86,16 @@ class Ticks(object):
             if action == BACK:
                 raise rospy.ROSTimeMovedBackwardsException(
                     (member.follower.handled - tick) * 1e-9)
-            if align and aligned(tick) != tick:
-                member.report(tick, aligned(tick))  # not a tick of this node's
+            if align is True:
+                # The join grant. From it on, every message a grant counts
+                # on this node's inputs is awaited (MessageLedger.settle);
+                # one sent just before the join may have come or not, so
+                # the first tick comes after it: a course then finds its
+                # robot and starts at the same tick on every run.
+                member.wait_counted(grant)
+                align = aligned(tick + 1)
+            if align and tick < align:
+                member.report(tick, align)  # not a tick of this node's
                 continue
             align = False
             self.unreported = tick
