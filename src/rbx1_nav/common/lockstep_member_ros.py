@@ -12,11 +12,13 @@ import threading
 import time
 
 import rospy
+from rospy.impl.registration import get_topic_manager
 
 from rbx1_nav.common.lockstep_member import (LOST_MESSAGES, REPEAT, RESEND, SILENT,
                                              STALE, Follower, Inbox, MessageLedger)
 from rbx1_nav.common.publish_ros import (from_ns, keep_own_time, link, publish, sender,
                                          synchronous_publisher, to_ns)
+from rbx1_nav.common.master_ros import topic_graph
 from rbx1_nav.msg import LockstepGrant, LockstepReport
 
 __all__ = ['GRANT_TOPIC', 'REPORT_TOPIC', 'GRANT_LIMIT', 'STATE_LIMIT',
@@ -191,6 +193,34 @@ class Member(object):
             self.own_time = keep_own_time()
         self.joined, self.left = True, False
         self.report(self.follower.handled or 0, 0)
+
+    def wait_for_inputs(self, limit, log_name):
+        """Before joining: wait up to ``limit`` wall s until this node is
+        connected to every node that publishes one of its inputs (by the
+        master), warning of those it is not. A message published before
+        its connection never arrives: one a grant counts would be waited
+        for in vain and taken as lost (LOST_MESSAGES s later, on a loaded
+        machine the robot's pose of a few ticks). Those counted before
+        the first grant are never awaited (MessageLedger.settle)."""
+        deadline = time.monotonic() + limit
+        while not rospy.is_shutdown():
+            graph = topic_graph()
+            publishers = graph[0] if graph else {}
+            waiting = []
+            for topic in sorted(self.ledger.topics):
+                impl = get_topic_manager().get_subscriber_impl(topic)
+                connected = {c.callerid_pub for c in impl.connections} if impl else set()
+                missing = set(publishers.get(topic, ())) - connected - {self.name}
+                if missing:
+                    waiting.append('%s (from %s)' % (topic, ', '.join(sorted(missing))))
+            if not waiting:
+                return
+            if time.monotonic() > deadline:
+                rospy.logwarn('%s: not connected to the publishers of %s after %.0f s; '
+                              'joining the lockstep without them', log_name,
+                              ', '.join(waiting), limit)
+                return
+            rospy.rostime.wallsleep(0.05)
 
     def join_patiently(self, log_name):
         """Join, however long the owner takes to come (a simulator, a

@@ -18,7 +18,6 @@ and calls :func:`main`.
 """
 import math
 import threading
-import time
 
 import rospy
 import tf2_ros
@@ -28,7 +27,7 @@ from tf2_msgs.msg import TFMessage
 
 from rbx1_nav.common import lockstep_member_ros as lockstep
 from rbx1_nav.common.lockstep_member import BACK, NO_TICK
-from rbx1_nav.common.master_ros import MasterWatch, reregister_node, topic_graph
+from rbx1_nav.common.master_ros import MasterWatch, reregister_node
 from rbx1_nav.common.node_ros import start_node, until_shutdown
 from rbx1_nav.common.ros_time import time_moved_back_text
 from rbx1_nav.common.tf_publishers import foreign_parent
@@ -45,8 +44,8 @@ from rbx1_nav.estimation.status import (OtherPublisherWatch, listening_text,
 WARN_PERIOD = 5.0  # s between repeats of the same warning
 CONFLICT_PERIOD = 30.0  # s between repeats of the second-publisher error
 #: Wall seconds the filter waits, under lockstep, for each of its inputs
-#: to be connected to a publisher before it joins (a message published
-#: before its connection never arrives, so it is not awaited).
+#: to be connected to its publishers before it joins
+#: (rbx1_nav.common.lockstep_member_ros.Member.wait_for_inputs).
 INPUT_WAIT = 10.0
 
 
@@ -258,7 +257,7 @@ class PoseEkfNode(object):
         """Step at each tick granted (a grid of 1/~freq s) until shutdown."""
         member = self.member
         rospy.on_shutdown(member.leave)
-        self.wait_for_inputs()
+        member.wait_for_inputs(INPUT_WAIT, 'pose_ekf')
         if not member.join_patiently('pose_ekf'):
             return
         period = int(round(1e9 / self.freq))
@@ -288,27 +287,6 @@ class PoseEkfNode(object):
             self.step(now)
             member.report(tick, NO_TICK if self.fusion.estimate is None
                           else (tick // period + 1) * period)
-
-    def wait_for_inputs(self):
-        """Wait up to INPUT_WAIT wall s until each input that a node
-        publishes (by the master) is connected to it: a message sent before
-        never arrives, so is not awaited
-        (rbx1_nav.common.lockstep_member.MessageLedger.settle). An input
-        nobody publishes is not waited for (its silence is warned of)."""
-        deadline = time.monotonic() + INPUT_WAIT
-        while not rospy.is_shutdown():
-            graph = topic_graph()
-            publishers = graph[0] if graph else {}
-            waiting = [topic for name, topic in sorted(self.topics.items())
-                       if publishers.get(topic) and not self.subs[name].get_num_connections()]
-            if not waiting:
-                return
-            if time.monotonic() > deadline:
-                rospy.logwarn('pose_ekf: not connected to the publishers of %s '
-                              'after %.0f s; joining the lockstep without them',
-                              ', '.join(waiting), INPUT_WAIT)
-                return
-            rospy.rostime.wallsleep(0.1)
 
 
 def main(specs, doc):

@@ -63,6 +63,7 @@ class Ticks(object):
             # The first grant may wait for the other members sim_clock's
             # ~members counts: up to the start-up wait (~tf_wait).
             wait = max(limit, self.join_wait)
+            member.wait_for_inputs(self.join_wait, member.name)
             try:
                 member.join(self.join_wait)
             except lockstep.JoinError as err:
