@@ -24,6 +24,7 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Log
 
+from rbx1_nav.common.publish_ros import link
 from rbx1_nav.motion.command import pose_error
 from rbx1_nav.transform_utils import Pose2D, quat_to_angle
 
@@ -48,13 +49,23 @@ class RobotWatch(object):
         self.ns = ns
         self.lock = threading.Lock()
         self.truth = None
+        self.old_links = set()  # ground_truth connections of robots gone
         self.commands = []  # (ROS time received, Twist)
         rospy.Subscriber(_join(ns, 'ground_truth'), Odometry, self._on_truth)
         rospy.Subscriber(_join(ns, 'cmd_vel'), Twist, self._on_cmd)
 
     def _on_truth(self, msg):
         with self.lock:
-            self.truth = msg
+            if link(msg) not in self.old_links:
+                self.truth = msg
+
+    def forget_truth(self):
+        """From now on only a new simulator's ground_truth counts (one
+        started under the same name comes on a new connection)."""
+        with self.lock:
+            if self.truth is not None:
+                self.old_links.add(link(self.truth))
+            self.truth = None
 
     def _on_cmd(self, msg):
         with self.lock:
@@ -250,11 +261,14 @@ class FakeRobot(object):
     @staticmethod
     def restart(robot, watch, settings):
         """Close ``robot`` (or None), start one with ``settings``, wait for
-        its first ground truth; return the new robot."""
+        its first ground truth (it has joined the lockstep, if any); return
+        the new robot. An earlier robot's ground truth does not count,
+        whether closed here or before (a population lane's robots come one
+        after another): a course started on it would begin before the new
+        robot took part, at a tick that depends on the machine's load."""
         if robot:
             robot.close()
-            # The old robot's last ground_truth must not count as the new one's.
-            watch.truth = None
+        watch.forget_truth()
         robot = FakeRobot(settings)
         watch.wait_for_truth()
         return robot
