@@ -53,9 +53,8 @@ class Ticks(object):
         period = int(round(1e9 / self.rate))
         limit = max(lockstep.GRANT_LIMIT, self.grant_wait)
         wait = limit
-        # A new membership: its first grant (the join grant) is not a tick;
-        # then align is the first tick, the next multiple of ALIGN after it.
-        align = False
+        joining = False  # the next grant is a new membership's first
+        first = None  # the first tick of a new membership (ns)
         if self.unreported is not None:  # still a member: the next tick
             member.report(self.unreported, self.unreported + period)
             self.unreported = None
@@ -71,7 +70,7 @@ class Ticks(object):
                                     'Start the simulator with lockstep too, or set '
                                     '/lockstep false' % err)
             joined()
-            align = True
+            joining = True
         while True:
             granted = member.wait_grant(wait)
             if granted is None:
@@ -87,18 +86,19 @@ class Ticks(object):
             if action == BACK:
                 raise rospy.ROSTimeMovedBackwardsException(
                     (member.follower.handled - tick) * 1e-9)
-            if align is True:
-                # The join grant. From it on, every message a grant counts
-                # on this node's inputs is awaited (MessageLedger.settle);
-                # one sent just before the join may have come or not, so
-                # the first tick comes after it: a course then finds its
-                # robot and starts at the same tick on every run.
+            if joining:
+                # The join grant is not a tick. From it on, every message a
+                # grant counts on this node's inputs is awaited
+                # (MessageLedger.settle); one sent just before the join may
+                # have come or not, so the first tick comes after it: a
+                # course then finds its robot and starts at the same tick
+                # on every run.
                 member.wait_counted(grant)
-                align = aligned(tick + 1)
-            if align and tick < align:
-                member.report(tick, align)  # not a tick of this node's
+                first, joining = aligned(tick + 1), False
+            if first is not None and tick < first:
+                member.report(tick, first)  # not a tick of this node's
                 continue
-            align = False
+            first = None
             self.unreported = tick
             yield from_ns(tick)
             self.unreported = None
