@@ -14,7 +14,7 @@ import sys
 import pytest
 
 SCRIPT = r'''
-import os, signal, sys, threading, time
+import os, signal, sys, time
 import rospy
 from rbx1_nav.motion import teleop_ros
 

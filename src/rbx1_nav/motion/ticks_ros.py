@@ -25,8 +25,9 @@ from rbx1_nav.motion.aborted import CourseAborted
 
 class Ticks(object):
     """The ticks at ``rate`` Hz. Under lockstep ``member`` is the node's
-    rbx1_nav.common.lockstep_member_ros.Member (else None); the join waits
-    up to ``join_wait`` wall s, a grant up to max(GRANT_LIMIT,
+    rbx1_nav.common.lockstep_member_ros.Member (else None); before the
+    join, the wait for its inputs' connections and the join itself each
+    wait up to ``join_wait`` wall s, a grant up to max(GRANT_LIMIT,
     ``grant_wait``) wall s; ``stop()`` stops the robot when the grants
     stop."""
 
