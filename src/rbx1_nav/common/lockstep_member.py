@@ -12,19 +12,22 @@ rospy here (test/unit/test_lockstep.py).
 """
 import collections
 
-__all__ = ['Follower', 'MessageLedger', 'Inbox', 'Report', 'RESEND', 'SILENT',
-           'LOST_MESSAGES', 'HANDLE', 'REPEAT', 'BACK', 'STALE', 'NO_TICK', 'ALIGN',
+__all__ = ['Follower', 'MessageLedger', 'Inbox', 'Report', 'RESEND',
+           'LOST_MESSAGES', 'WAIT_WARNING', 'HANDLE', 'REPEAT', 'BACK', 'STALE', 'NO_TICK', 'ALIGN',
            'aligned']
 
 #: Wall seconds a member waits for a grant, or the owner for a report,
 #: before sending its last message again.
 RESEND = 0.5
-#: Wall seconds a granted member may stay silent before the owner drops
-#: it (it rejoins with its next report).
-SILENT = 3.0
-#: Wall seconds a member waits for counted messages (a simulator for its
-#: commands, a filter for its sensors) before taking them as lost on the way.
+#: Wall seconds a member waits for counted messages from a sender that is
+#: no longer connected to it (and, by the master, no longer publishes the
+#: topic) before taking them as lost. While the sender is connected its
+#: messages are on their way, in order: they are awaited however long a
+#: loaded machine takes, so what a member takes never depends on the load.
 LOST_MESSAGES = 1.0
+#: Wall seconds between the warnings of a member that keeps waiting for
+#: counted messages from a connected sender.
+WAIT_WARNING = 5.0
 #: A report's ``next`` when the member has no tick of its own (a filter
 #: waiting for its first data): it is granted the next step, whatever it is.
 NO_TICK = 0
@@ -151,9 +154,11 @@ class MessageLedger(object):
                     self.lost[key] -= before
             self.counted[key] = count
 
-    def give_up(self, counts):
-        """Take the missing messages of ``counts`` as lost; return them."""
-        missing = self.missing(counts)
+    def give_up(self, counts, gone=None):
+        """Take the missing messages of ``counts`` as lost (only those of
+        the (topic, sender) pairs in ``gone``, if given); return them."""
+        missing = [(topic, sender, short) for topic, sender, short in self.missing(counts)
+                   if gone is None or (topic, sender) in gone]
         for topic, sender, short in missing:
             self.lost[(topic, sender)] += short
         return missing

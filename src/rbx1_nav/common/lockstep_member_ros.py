@@ -14,25 +14,29 @@ import time
 import rospy
 from rospy.impl.registration import get_topic_manager
 
-from rbx1_nav.common.lockstep_member import (LOST_MESSAGES, REPEAT, RESEND, SILENT,
-                                             STALE, Follower, Inbox, MessageLedger)
+from rbx1_nav.common.lockstep_member import (LOST_MESSAGES, REPEAT, RESEND, STALE,
+                                             WAIT_WARNING, Follower, Inbox, MessageLedger)
 from rbx1_nav.common.publish_ros import (from_ns, keep_own_time, link, publish, sender,
                                          synchronous_publisher, to_ns)
-from rbx1_nav.common.master_ros import topic_graph
+from rbx1_nav.common.master_ros import node_answers, topic_graph
 from rbx1_nav.msg import LockstepGrant, LockstepReport
 
-__all__ = ['GRANT_TOPIC', 'REPORT_TOPIC', 'GRANT_LIMIT', 'STATE_LIMIT',
-           'NO_OWNER_WARNING', 'no_owner_text', 'JoinError', 'Member', 'CountedPublisher', 'enabled']
+__all__ = ['GRANT_TOPIC', 'REPORT_TOPIC', 'GRANT_LIMIT', 'POLL', 'NO_OWNER_WARNING',
+           'no_owner_text', 'connected_publishers', 'JoinError', 'Member',
+           'CountedPublisher', 'enabled']
 
 #: Global topics, like /clock: one owner of simulated time per master.
 GRANT_TOPIC = '/lockstep_grant'
 REPORT_TOPIC = '/lockstep_report'
-#: Wall seconds a motion node waits for its next grant before it takes the
-#: clock as gone (more than SILENT: a member stuck elsewhere is dropped by
-#: the owner first).
-GRANT_LIMIT = SILENT + 1.0
-#: Wall seconds a motion node waits for its simulator's state at a tick.
-STATE_LIMIT = 1.0
+#: Wall seconds a motion node waits for its next grant with no owner
+#: connected (sim_clock gone; a new one may take over meanwhile) before it
+#: takes the clock as gone. While the owner is connected it waits however
+#: long time takes: time waits for the slowest member (sim_clock names it
+#: every second), and a loaded machine only makes a step take longer.
+GRANT_LIMIT = 4.0
+#: Wall seconds between a waiting member's checks that what it waits for
+#: is still connected.
+POLL = 0.1
 #: Wall seconds a simulator, filter or bag player waits for a grant before
 #: it says that nothing grants steps.
 NO_OWNER_WARNING = 5.0
@@ -49,6 +53,13 @@ def enabled():
     """True when this run uses lockstep simulated time."""
     return bool(rospy.get_param('/use_sim_time', False)
                 and rospy.get_param('/lockstep', False))
+
+
+def connected_publishers(topic):
+    """The nodes this node is connected to as a subscriber of ``topic``
+    (resolved)."""
+    impl = get_topic_manager().get_subscriber_impl(topic)
+    return {c.callerid_pub for c in impl.connections} if impl else set()
 
 
 class JoinError(Exception):
@@ -199,8 +210,7 @@ class Member(object):
         connected to every node that publishes one of its inputs (by the
         master), warning of those it is not. A message published before
         its connection never arrives: one a grant counts would be waited
-        for in vain and taken as lost (LOST_MESSAGES s later, on a loaded
-        machine the robot's pose of a few ticks). Those counted before
+        for in vain. Those counted before
         the first grant are never awaited (MessageLedger.settle)."""
         deadline = time.monotonic() + limit
         while not rospy.is_shutdown():
@@ -208,9 +218,8 @@ class Member(object):
             publishers = graph[0] if graph else {}
             waiting = []
             for topic in sorted(self.ledger.topics):
-                impl = get_topic_manager().get_subscriber_impl(topic)
-                connected = {c.callerid_pub for c in impl.connections} if impl else set()
-                missing = set(publishers.get(topic, ())) - connected - {self.name}
+                missing = (set(publishers.get(topic, ())) - connected_publishers(topic)
+                           - {self.name})
                 if missing:
                     waiting.append('%s (from %s)' % (topic, ', '.join(sorted(missing))))
             if not waiting:
@@ -249,19 +258,28 @@ class Member(object):
         """Wait for the next step granted to this node; return (action,
         time ns, grant): action HANDLE or BACK (rbx1_nav.common.lockstep_member.Follower).
         Sends the last report again every RESEND wall seconds without a
-        grant. None after ``limit`` wall seconds without one, or at shutdown.
+        grant (at once to a new owner). While an owner is connected it
+        waits however long the step takes; None once no owner has been
+        connected for ``limit`` wall seconds, or at shutdown.
         """
-        started = time.monotonic()
+        away = None  # wall s since which no owner is connected
+        resend = time.monotonic() + RESEND
         while not rospy.is_shutdown():
             with self.cond:
-                self.cond.wait_for(lambda: self.grant is not None or self.rejoin,
-                                   RESEND)
+                self.cond.wait_for(lambda: self.grant is not None or self.rejoin, POLL)
                 grant, self.grant = self.grant, None
-                self.rejoin = False
+                rejoin, self.rejoin = self.rejoin, False
             if grant is None:
-                if limit is not None and time.monotonic() - started > limit:
+                now = time.monotonic()
+                if self.sub.get_num_connections():
+                    away = None
+                elif away is None:
+                    away = now
+                elif limit is not None and now - away > limit:
                     return None
-                self._send_again()
+                if rejoin or now > resend:
+                    resend = now + RESEND
+                    self._send_again()
                 continue
             taken = self._take(grant)
             if taken:
@@ -292,25 +310,43 @@ class Member(object):
 
     def wait_counted(self, grant):
         """Before handling ``grant``: wait (wall time) until every message
-        it counts on this member's inputs has arrived; after LOST_MESSAGES s
-        take the rest as lost, with a warning."""
+        it counts on this member's inputs has arrived. A counted message
+        was sent before the grant, on a connection that delivers in
+        order: it is awaited as long as its sender stays connected,
+        however loaded the machine (a warning every WAIT_WARNING s). The
+        missing messages of a sender unconnected for LOST_MESSAGES s that
+        no longer publishes the topic, or no longer answers (killed), are
+        taken as lost, with a warning."""
         counts = list(zip(grant.topics, grant.senders, grant.counts))
-        deadline = time.monotonic() + LOST_MESSAGES
         with self.cond:
             if not self.settled:
                 self.ledger.settle(counts)
                 self.settled = True
             self.ledger.restarts(counts)
-            while self.ledger.missing(counts):
-                if time.monotonic() > deadline:
-                    for topic, name, short in self.ledger.give_up(counts):
-                        rospy.logwarn('%s: %d message(s) from %s on %s lost '
-                                      'on the way; going on without them',
-                                      self.name, short, name, topic)
-                elif rospy.is_shutdown():
-                    return
-                else:
-                    self.cond.wait(0.05)
+        away = {}  # (topic, sender) -> wall s since it is unconnected
+        warn_at = time.monotonic() + WAIT_WARNING
+        while not rospy.is_shutdown():
+            with self.cond:
+                missing = self.ledger.missing(counts)
+                if missing:
+                    self.cond.wait(POLL)
+                    missing = self.ledger.missing(counts)
+            if not missing:
+                return
+            now = time.monotonic()
+            gone = _senders_gone(missing, away, now)
+            with self.cond:
+                for topic, name, short in self.ledger.give_up(counts, gone):
+                    rospy.logwarn('%s: %d message(s) from %s on %s lost on the '
+                                  'way (%s is gone); going on without them',
+                                  self.name, short, name, topic, name)
+            if now > warn_at:
+                warn_at = now + WAIT_WARNING
+                rospy.logwarn('%s: still waiting for %s, sent before the step at '
+                              '%.3f s', self.name, '; '.join(
+                                  '%d message(s) from %s on %s' % (short, name, topic)
+                                  for topic, name, short in missing),
+                              to_ns(grant.time) * 1e-9)
 
     def arrived(self, topic, msg, item=None):
         """Count a message that arrived on ``topic`` (an input); with
@@ -368,6 +404,35 @@ class Member(object):
                 return
             self.report(self.follower.handled or 0, 0, leaving=True)
             self.joined, self.left = False, True
+
+
+def _senders_gone(missing, away, now):
+    """The (topic, sender) pairs of ``missing`` ((topic, sender, count))
+    whose messages will never come: the sender has been unconnected for
+    LOST_MESSAGES s, and the master no longer lists it as a publisher of
+    the topic or it does not answer (killed). One still there is
+    connecting (started again under its name): waited for. ``away``
+    keeps since when each is unconnected."""
+    waiting = {(topic, name) for topic, name, _ in missing}
+    for key in set(away) - waiting:
+        del away[key]
+    for topic, name in waiting:
+        if name in connected_publishers(topic):
+            away.pop((topic, name), None)
+        else:
+            away.setdefault((topic, name), now)
+    overdue = [key for key, since in away.items() if now - since > LOST_MESSAGES]
+    if not overdue:
+        return set()
+    graph = topic_graph()
+    publishers = graph[0] if graph else {}
+    gone = set()
+    for topic, name in overdue:
+        if name in publishers.get(topic, ()) and node_answers(name):
+            away[(topic, name)] = now
+        else:
+            gone.add((topic, name))
+    return gone
 
 
 class CountedPublisher(object):

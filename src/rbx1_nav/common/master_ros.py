@@ -24,7 +24,7 @@ from rospy.impl.registration import get_service_manager, get_topic_manager
 from rbx1_nav.common.master_watch import (BACK, GONE, RESTARTED, TIMEOUT,
                                           MasterStates, proxy, reregistering_text)
 
-__all__ = ['MasterWatch', 'proxy', 'topic_graph', 'reregister',
+__all__ = ['MasterWatch', 'proxy', 'topic_graph', 'node_answers', 'reregister',
            'reregister_node']
 
 PERIOD = 1.0  # s between polls
@@ -52,6 +52,22 @@ def topic_graph(timeout=TIMEOUT):
     except Exception:  # refused, timed out, reset, bad reply
         return None
     return dict(state[0]), dict(state[1]), dict(types)
+
+
+def node_answers(name, timeout=TIMEOUT):
+    """True if the node ``name`` answers at the address the master has for
+    it; False if it is not registered or does not answer (a killed node
+    stays registered until another takes its name), or if the master
+    cannot tell."""
+    caller_id = rospy.get_caller_id()
+    try:
+        with proxy(rosgraph.get_master_uri(), timeout) as master:
+            uri = _value(master.lookupNode(caller_id, name), 'lookupNode')
+        with proxy(uri, timeout) as node:
+            _value(node.getPid(caller_id), 'getPid')
+    except Exception:  # not registered, refused, timed out, bad reply
+        return False
+    return True
 
 
 def master_identity(uri, caller_id, timeout=TIMEOUT):

@@ -69,7 +69,6 @@ class TfFollower(object):
         # the broadcaster that a grant counted.
         self.broadcaster = None
         self.simulator = None
-        self.state_wait = lockstep.STATE_LIMIT
         self.counted = None
         # Lockstep: (sender, child frame) -> the newest stamp (ns) a grant
         # counted of it.
@@ -203,12 +202,12 @@ class TfFollower(object):
 
         Under lockstep, following the transform of a simulator granted the
         same tick, first wait for its state at that very time (it
-        publishes it on the same grant). If it does not come within
-        STATE_LIMIT wall seconds (the simulator died) the next ticks take
-        what there is, until it catches up; the staleness check then ends
-        the course. Following another member's transform (a filter's),
-        take the last one the grant counts (waiting for it, as a
-        simulator waits for its commands), not one published since.
+        publishes it on the same grant), however long that takes while
+        the simulator is connected; if it is not (it died), take what
+        there is: the staleness check then ends the course. Following
+        another member's transform (a filter's), take the last one the
+        grant counts (waiting for it, as a simulator waits for its
+        commands), not one published since.
         """
         if grant is None:
             return self.lookup()
@@ -219,9 +218,11 @@ class TfFollower(object):
         if self.simulator is not None:
             if self.simulator in grant.members:
                 tick = to_ns(now)
-                arrived = self.listener.wait(lambda: self._stamp() >= tick,
-                                             self.state_wait)
-                self.state_wait = lockstep.STATE_LIMIT if arrived else 0.0
+                topic = self.listener.tf_sub.resolved_name
+                while not (self.listener.wait(lambda: self._stamp() >= tick, lockstep.POLL)
+                           or self.simulator not in lockstep.connected_publishers(topic)
+                           or rospy.is_shutdown()):
+                    pass
         elif self.counted is not None and self.broadcaster in grant.senders:
             return self.lookup(rospy.Time(nsecs=self.counted))
         return self.lookup()

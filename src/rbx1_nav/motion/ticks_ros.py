@@ -27,9 +27,9 @@ class Ticks(object):
     """The ticks at ``rate`` Hz. Under lockstep ``member`` is the node's
     rbx1_nav.common.lockstep_member_ros.Member (else None); before the
     join, the wait for its inputs' connections and the join itself each
-    wait up to ``join_wait`` wall s, a grant up to max(GRANT_LIMIT,
-    ``grant_wait``) wall s; ``stop()`` stops the robot when the grants
-    stop."""
+    wait up to ``join_wait`` wall s; a grant is waited for as long as the
+    owner is connected, and up to max(GRANT_LIMIT, ``grant_wait``) wall s
+    once it is not; ``stop()`` stops the robot when the owner is gone."""
 
     def __init__(self, rate, member, join_wait, grant_wait, stop):
         self.rate = rate
@@ -79,8 +79,9 @@ class Ticks(object):
                     return
                 self.stop()
                 raise CourseAborted(
-                    '/clock has not advanced: no lockstep step granted for %.1f s '
-                    'of wall time (sim_clock gone?); stopped the robot' % wait)
+                    '/clock has not advanced: nothing has granted lockstep steps on '
+                    '%s for %.1f s of wall time (sim_clock gone); stopped the robot'
+                    % (lockstep.GRANT_TOPIC, wait))
             wait = limit
             action, tick, grant = granted
             self.grant = grant

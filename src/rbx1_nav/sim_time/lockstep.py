@@ -56,11 +56,17 @@ Why nothing can wait forever (the deadlock argument):
    time: a member that hears nothing for RESEND seconds sends its last
    report again, and the owner re-sends an unanswered grant. A lost or
    late message costs a re-send, never a frozen graph.
-3. Every wait has a watchdog in wall time: the owner drops a member whose
-   connection closed at once and a silent one after SILENT (it rejoins
-   with its next report); a member goes on without messages lost on
-   the way after LOST_MESSAGES; a motion node stops waiting for state that
-   does not come (the simulator died) and its tf watchdog ends the course.
+3. Every wait ends when what it waits for is gone, never on a wall-time
+   limit while it is there: a loaded machine makes a step take longer,
+   never changes what a member sees. The owner drops a member whose
+   connection closed (it died) and waits for a live one however slow,
+   naming it every second, as Gazebo's lockstep waits for its slowest
+   sensor. A member waits for a counted message while its sender is
+   connected (the message is on its way, in order), and takes it as lost
+   once the sender is gone (LOST_MESSAGES s unconnected, and no longer
+   publishing or not answering); a motion node waits for its grant while
+   the owner is connected, and takes the clock as gone after GRANT_LIMIT
+   s without one (its tf watchdog ends the course when a simulator dies).
 
 Joining: a member sends a report without having been granted anything; its
 first grant is the owner's next step, whatever time it asked for (so a new
@@ -71,27 +77,25 @@ without a master (test/unit/test_lockstep.py). A member's side of the rules
 (Follower, MessageLedger, Inbox) is rbx1_nav.common.lockstep_member: every
 node that keeps time takes part, so it is common ground; the owner is here.
 """
-from rbx1_nav.common.lockstep_member import NO_TICK, SILENT
+from rbx1_nav.common.lockstep_member import NO_TICK
 
 __all__ = ['Owner']
 
 
 class _Member(object):
-    __slots__ = ('next', 'every_step', 'passive', 'granted', 'silent_since')
+    __slots__ = ('next', 'every_step', 'passive', 'granted')
 
     def __init__(self, every_step, passive):
         self.next = None          # next tick asked for; None: the next step
         self.every_step = every_step
         self.passive = passive
         self.granted = None       # the step it owes a report for
-        self.silent_since = None  # when that grant went out (wall s)
 
 
 class Owner(object):
     """The owner's side: who takes part, when the next step is, who owes a
     report. ``start`` (ns) is the time already published; ``step`` (ns) the
-    step taken when no member asks for a time. ``wall`` times are passed
-    in, so the watchdogs are testable without sleeping."""
+    step taken when no member asks for a time."""
 
     def __init__(self, start=0, step=10000000, batch=False):
         self.now = start
@@ -113,7 +117,7 @@ class Owner(object):
             return 'joined', None
         if member.granted is None or report.handled != member.granted:
             return None, None  # a report sent again, or one overtaken
-        member.granted = member.silent_since = None
+        member.granted = None
         if report.next == NO_TICK:
             member.next = None  # no tick of its own: the next step
             return None, None
@@ -146,16 +150,15 @@ class Owner(object):
         motion node, a bag player: not a filter) takes part."""
         return any(not (m.every_step or m.passive) for m in self.members.values())
 
-    def grant(self, time, names, wall):
-        """The step ``time`` goes out to ``names`` at wall time ``wall``;
-        return the names still members (one may have left meanwhile)."""
+    def grant(self, time, names):
+        """The step ``time`` goes out to ``names``; return the names still
+        members (one may have left meanwhile)."""
         if time <= self.now:
             raise ValueError('step %d ns is not after %d ns' % (time, self.now))
         self.now = time
         names = [name for name in names if name in self.members]
         for name in names:
-            member = self.members[name]
-            member.granted, member.silent_since = time, wall
+            self.members[name].granted = time
         return names
 
     def simulators(self):
@@ -167,14 +170,8 @@ class Owner(object):
         return sorted(name for name, m in self.members.items()
                       if m.granted is not None)
 
-    def silent(self, wall, limit=SILENT):
-        """Names of the members that have owed a report for over ``limit``
-        wall seconds."""
-        return sorted(name for name, m in self.members.items()
-                      if m.granted is not None and wall - m.silent_since > limit)
-
     def drop(self, name):
-        """Forget ``name`` (dead or silent); True if it was a member."""
+        """Forget ``name`` (dead); True if it was a member."""
         return self.members.pop(name, None) is not None
 
     def sent_counts(self):

@@ -11,7 +11,7 @@ import time
 import rospy
 from rosgraph_msgs.msg import Clock
 
-from rbx1_nav.common.lockstep_member import RESEND, SILENT, Report
+from rbx1_nav.common.lockstep_member import RESEND, Report
 from rbx1_nav.common.lockstep_member_ros import GRANT_TOPIC, REPORT_TOPIC
 from rbx1_nav.common.publish_ros import (from_ns, keep_own_time, publish, sender,
                                          synchronous_publisher, to_ns)
@@ -132,7 +132,10 @@ class TimeOwner(object):
         its time has come (a hand-off to this thread would cost every step
         a thread woken); this thread starts the ones that wait, and
         watches the members: it re-sends a grant to the silent ones every
-        RESEND s and drops members that died or stay silent for SILENT s.
+        RESEND s, names them every SLOW_MEMBER s, and drops those that
+        died (their connection closed). A live member, however slow, is
+        waited for: dropping it would make what the others see depend on
+        the machine's load.
         """
         with self.cond:
             self.plan = plan
@@ -162,7 +165,7 @@ class TimeOwner(object):
             self.cond.notify_all()  # run's thread starts it then
             return None
         self.planned = None
-        names = self.owner.grant(time_ns, names, now)
+        names = self.owner.grant(time_ns, names)
         self.current = (time_ns, now + RESEND, now + SLOW_MEMBER)
         grant = self._grant_message(time_ns, names) if names else None
         self.sending.acquire()
@@ -182,19 +185,13 @@ class TimeOwner(object):
 
     def _watch(self):
         """Under self.cond, every 50 ms (wall) while a step is owed: drop
-        the members that died or stay silent, re-send the grant to the
-        silent ones every RESEND s, and say who time waits for every
-        SLOW_MEMBER s."""
+        the members that died, re-send the grant to the silent ones every
+        RESEND s, and say who time waits for every SLOW_MEMBER s."""
         if not self.owner.owing():
             return
         time_ns, resend_at, warn_at = self.current
         now = time.monotonic()
         self._drop_disconnected()
-        for name in self.owner.silent(now):
-            self.owner.drop(name)
-            rospy.logwarn('%s: %s has not handled the step at %.3f s for '
-                          '%.0f s; going on without it until it reports '
-                          'again', self.name, name, time_ns * 1e-9, SILENT)
         owing = self.owner.owing()
         if owing and now > resend_at:
             resend_at = now + RESEND
