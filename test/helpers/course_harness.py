@@ -212,6 +212,11 @@ class CourseProcess(object):
     def running(self):
         return self.proc.poll() is None
 
+    def ended(self):
+        """True once the node has closed its output (it exited) and every
+        line of it has been read."""
+        return not self.reader.is_alive()
+
     def wait(self, wall_limit=WALL_LIMIT):
         """Wait for the node to exit; note the ROS time; return its status."""
         for _ in range(int(wall_limit / 0.01)):
@@ -289,10 +294,11 @@ def calibrate(test, kind, wall_limit=WALL_LIMIT, **params):
          'tf_timeout': 5.0}, **params))
     try:
         found = []
-        printed = wait_until(lambda: found.extend(
-            CORRECTION.findall(node.output)) or found, wall_limit=wall_limit)
-        test.assertTrue(printed, 'no correction printed in %.0f s (wall):\n%s'
-                        % (wall_limit, node.output))
+        ended = wait_until(lambda: found.extend(CORRECTION.findall(node.output))
+                           or found or node.ended(), wall_limit=wall_limit)
+        test.assertTrue(found, 'no correction printed (%s):\n%s' % (
+            'the node ended' if ended else 'in %.0f s, wall' % wall_limit,
+            node.output))
         node.interrupt()
         test.assertEqual(node.wait(wall_limit), 0, node.output)
     finally:

@@ -13,7 +13,7 @@ rospy here (test/unit/test_lockstep.py).
 import collections
 
 __all__ = ['Follower', 'MessageLedger', 'Inbox', 'Report', 'RESEND',
-           'LOST_MESSAGES', 'WAIT_WARNING', 'HANDLE', 'REPEAT', 'BACK', 'STALE', 'NO_TICK', 'ALIGN',
+           'LOST_MESSAGES', 'STALLED', 'WAIT_WARNING', 'HANDLE', 'REPEAT', 'BACK', 'STALE', 'NO_TICK', 'ALIGN',
            'aligned']
 
 #: Wall seconds a member waits for a grant, or the owner for a report,
@@ -25,6 +25,12 @@ RESEND = 0.5
 #: messages are on their way, in order: they are awaited however long a
 #: loaded machine takes, so what a member takes never depends on the load.
 LOST_MESSAGES = 1.0
+#: Wall seconds after which a member takes counted messages from a sender
+#: still connected as lost all the same: a backstop against a hang, with
+#: a warning that names it, not a limit a loaded machine reaches (a member
+#: connects for its counted messages at both ends before it joins:
+#: rbx1_nav.common.lockstep_member_ros.Member.wait_for_inputs).
+STALLED = 10.0
 #: Wall seconds between the warnings of a member that keeps waiting for
 #: counted messages from a connected sender.
 WAIT_WARNING = 5.0

@@ -14,16 +14,16 @@ import time
 import rospy
 from rospy.impl.registration import get_topic_manager
 
-from rbx1_nav.common.lockstep_member import (LOST_MESSAGES, REPEAT, RESEND, STALE,
+from rbx1_nav.common.lockstep_member import (LOST_MESSAGES, REPEAT, RESEND, STALE, STALLED,
                                              WAIT_WARNING, Follower, Inbox, MessageLedger)
-from rbx1_nav.common.publish_ros import (from_ns, keep_own_time, link, publish, sender,
-                                         synchronous_publisher, to_ns)
+from rbx1_nav.common.publish_ros import (delivered, from_ns, keep_own_time, link, publish,
+                                         sender, synchronous_publisher, to_ns)
 from rbx1_nav.common.master_ros import node_answers, topic_graph
 from rbx1_nav.msg import LockstepGrant, LockstepReport
 
-__all__ = ['GRANT_TOPIC', 'REPORT_TOPIC', 'GRANT_LIMIT', 'POLL', 'NO_OWNER_WARNING',
-           'no_owner_text', 'connected_publishers', 'JoinError', 'Member',
-           'CountedPublisher', 'enabled']
+__all__ = ['GRANT_TOPIC', 'REPORT_TOPIC', 'GRANT_LIMIT', 'POLL', 'STALLED',
+           'NO_OWNER_WARNING', 'no_owner_text', 'connected_publishers', 'JoinError',
+           'Member', 'CountedPublisher', 'enabled']
 
 #: Global topics, like /clock: one owner of simulated time per master.
 GRANT_TOPIC = '/lockstep_grant'
@@ -34,6 +34,10 @@ REPORT_TOPIC = '/lockstep_report'
 #: long time takes: time waits for the slowest member (sim_clock names it
 #: every second), and a loaded machine only makes a step take longer.
 GRANT_LIMIT = 4.0
+#: Wall seconds a member about to join waits for a first grant, once the
+#: owner is connected, to learn who the members are (grants go out every
+#: step while there are any).
+FIRST_GRANT = 1.0
 #: Wall seconds between a waiting member's checks that what it waits for
 #: is still connected.
 POLL = 0.1
@@ -55,11 +59,13 @@ def enabled():
                 and rospy.get_param('/lockstep', False))
 
 
-def connected_publishers(topic):
+def connected_publishers(topic, delivering=False):
     """The nodes this node is connected to as a subscriber of ``topic``
-    (resolved)."""
+    (resolved); with ``delivering``, only those a member's message has
+    come from on the connection (:func:`rbx1_nav.common.publish_ros.delivered`)."""
     impl = get_topic_manager().get_subscriber_impl(topic)
-    return {c.callerid_pub for c in impl.connections} if impl else set()
+    return {c.callerid_pub for c in (impl.connections if impl else ())
+            if not delivering or delivered(c)}
 
 
 class JoinError(Exception):
@@ -206,28 +212,59 @@ class Member(object):
         self.report(self.follower.handled or 0, 0)
 
     def wait_for_inputs(self, limit, log_name):
-        """Before joining: wait up to ``limit`` wall s until this node is
-        connected to every node that publishes one of its inputs (by the
-        master), warning of those it is not. A message published before
-        its connection never arrives: one a grant counts would be waited
-        for in vain. Those counted before
-        the first grant are never awaited (MessageLedger.settle)."""
+        """Before joining: wait up to ``limit`` wall s until every
+        connection this node's counted messages travel on is up at both
+        ends, warning of those that are not. A message published before
+        its connection never arrives; and rospy's publisher answers a new
+        subscriber before it adds the connection to those it writes to,
+        so a subscriber can count itself connected while messages
+        published meanwhile never reach it. Either way one that a grant
+        counts would be waited for in vain. So, by the master's graph and
+        the members a grant names (one is seen first, unless none comes
+        within FIRST_GRANT s of the owner's connection: time is held for
+        a first member, and there is none):
+
+        - each input is connected to every node that publishes it, and
+          has had a message from each member among them (which was then
+          writing to it);
+        - each topic this node publishes has, at the publisher's end, a
+          connection to every member that subscribes to it.
+
+        Those counted before the first grant are never awaited
+        (MessageLedger.settle)."""
         deadline = time.monotonic() + limit
+        manager = get_topic_manager()
+        owner_since = None  # wall s since the owner is connected
         while not rospy.is_shutdown():
             graph = topic_graph()
-            publishers = graph[0] if graph else {}
-            waiting = []
+            publishers, subscribers = graph[:2] if graph else ({}, {})
+            with self.cond:
+                members = set(self.members)
+            now = time.monotonic()
+            if owner_since is None and self.sub.get_num_connections():
+                owner_since = now
+            held = owner_since is not None and now - owner_since > FIRST_GRANT
+            waiting = [] if members or held else ['a first grant on %s' % GRANT_TOPIC]
             for topic in sorted(self.ledger.topics):
-                missing = (set(publishers.get(topic, ())) - connected_publishers(topic)
-                           - {self.name})
+                listed = set(publishers.get(topic, ())) - {self.name}
+                missing = ((listed - connected_publishers(topic))
+                           | (listed & members - connected_publishers(topic, delivering=True)))
                 if missing:
-                    waiting.append('%s (from %s)' % (topic, ', '.join(sorted(missing))))
+                    waiting.append('%s from %s' % (topic, ', '.join(sorted(missing))))
+            for topic in sorted(subscribers):
+                impl = manager.get_publisher_impl(topic)
+                if impl is None:
+                    continue
+                missing = ((set(subscribers[topic]) & members) - {self.name}
+                           - {c.endpoint_id for c in impl.connections})
+                if missing:
+                    waiting.append('%s to %s' % (topic, ', '.join(sorted(missing))))
             if not waiting:
                 return
-            if time.monotonic() > deadline:
-                rospy.logwarn('%s: not connected to the publishers of %s after %.0f s; '
-                              'joining the lockstep without them', log_name,
-                              ', '.join(waiting), limit)
+            if now > deadline:
+                rospy.logwarn('%s: after %.0f s, still not connected for %s; '
+                              'joining the lockstep without it', log_name,
+                              limit, '; '.join(waiting))
                 return
             rospy.rostime.wallsleep(0.05)
 
@@ -313,9 +350,10 @@ class Member(object):
         it counts on this member's inputs has arrived. A counted message
         was sent before the grant, on a connection that delivers in
         order: it is awaited as long as its sender stays connected,
-        however loaded the machine (a warning every WAIT_WARNING s). The
-        missing messages of a sender unconnected for LOST_MESSAGES s that
-        no longer publishes the topic, or no longer answers (killed), are
+        however loaded the machine (a warning every WAIT_WARNING s, and
+        after STALLED s, a backstop, it is taken as lost). The missing
+        messages of a sender unconnected for LOST_MESSAGES s that no
+        longer publishes the topic, or no longer answers (killed), are
         taken as lost, with a warning."""
         counts = list(zip(grant.topics, grant.senders, grant.counts))
         with self.cond:
@@ -324,7 +362,8 @@ class Member(object):
                 self.settled = True
             self.ledger.restarts(counts)
         away = {}  # (topic, sender) -> wall s since it is unconnected
-        warn_at = time.monotonic() + WAIT_WARNING
+        started = time.monotonic()
+        warn_at = started + WAIT_WARNING
         while not rospy.is_shutdown():
             with self.cond:
                 missing = self.ledger.missing(counts)
@@ -334,13 +373,16 @@ class Member(object):
             if not missing:
                 return
             now = time.monotonic()
-            gone = _senders_gone(missing, away, now)
+            stalled = now - started > STALLED
+            gone = None if stalled else _senders_gone(missing, away, now)
             with self.cond:
-                for topic, name, short in self.ledger.give_up(counts, gone):
-                    rospy.logwarn('%s: %d message(s) from %s on %s lost on the '
-                                  'way (%s is gone); going on without them',
-                                  self.name, short, name, topic, name)
-            if now > warn_at:
+                lost = self.ledger.give_up(counts, gone)
+            for topic, name, short in lost:
+                rospy.logwarn('%s: %d message(s) from %s on %s lost on the way (%s); '
+                              'going on without them', self.name, short, name, topic,
+                              'not come in %.0f s' % STALLED if stalled
+                              else '%s is gone' % name)
+            if now > warn_at and not lost:
                 warn_at = now + WAIT_WARNING
                 rospy.logwarn('%s: still waiting for %s, sent before the step at '
                               '%.3f s', self.name, '; '.join(

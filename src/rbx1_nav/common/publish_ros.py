@@ -43,6 +43,13 @@ def link(msg):
     return number
 
 
+def delivered(connection):
+    """True once a message that :func:`link` numbered came on
+    ``connection`` (a subscriber's rospy transport): its publisher is
+    writing to it."""
+    return _LINK in (connection.header or {})
+
+
 def synchronous_publisher(topic, msg_class, **kwargs):
     """A publisher that writes each message before publish() returns, with
     no Nagle delay: lockstep waits for every message, so a hand-off to

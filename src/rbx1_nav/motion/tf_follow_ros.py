@@ -9,6 +9,7 @@ whose stamps are not ticks): the transform of the last of its messages
 the grant counts, whatever came after (the same on every run).
 """
 import threading
+import time
 
 import rospy
 import tf2_ros
@@ -203,8 +204,9 @@ class TfFollower(object):
         Under lockstep, following the transform of a simulator granted the
         same tick, first wait for its state at that very time (it
         publishes it on the same grant), however long that takes while
-        the simulator is connected; if it is not (it died), take what
-        there is: the staleness check then ends the course. Following
+        the simulator is connected (up to STALLED s, a backstop); if it is
+        not (it died), take what there is: the staleness check then ends
+        the course. Following
         another member's transform (a filter's), take the last one the
         grant counts (waiting for it, as a simulator waits for its
         commands), not one published since.
@@ -219,9 +221,10 @@ class TfFollower(object):
             if self.simulator in grant.members:
                 tick = to_ns(now)
                 topic = self.listener.tf_sub.resolved_name
+                stalled = time.monotonic() + lockstep.STALLED
                 while not (self.listener.wait(lambda: self._stamp() >= tick, lockstep.POLL)
                            or self.simulator not in lockstep.connected_publishers(topic)
-                           or rospy.is_shutdown()):
+                           or time.monotonic() > stalled or rospy.is_shutdown()):
                     pass
         elif self.counted is not None and self.broadcaster in grant.senders:
             return self.lookup(rospy.Time(nsecs=self.counted))

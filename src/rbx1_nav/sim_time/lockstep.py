@@ -61,10 +61,12 @@ Why nothing can wait forever (the deadlock argument):
    never changes what a member sees. The owner drops a member whose
    connection closed (it died) and waits for a live one however slow,
    naming it every second, as Gazebo's lockstep waits for its slowest
-   sensor. A member waits for a counted message while its sender is
-   connected (the message is on its way, in order), and takes it as lost
-   once the sender is gone (LOST_MESSAGES s unconnected, and no longer
-   publishing or not answering); a motion node waits for its grant while
+   sensor. A member joins once the connections of its counted messages
+   are up at both ends; then it waits for a counted message while its
+   sender is connected (the message is on its way, in order; STALLED s
+   is a backstop), and takes it as lost once the sender is gone
+   (LOST_MESSAGES s unconnected, and no longer publishing or not
+   answering); a motion node waits for its grant while
    the owner is connected, and takes the clock as gone after GRANT_LIMIT
    s without one (its tf watchdog ends the course when a simulator dies).
 
