@@ -30,11 +30,11 @@ def exit_limit(tf_timeout):
     """Wall s from the clock's death to the node's exit, at most.
 
     The node notices a dead clock by waiting for it on the wall clock:
-    under lockstep for its next grant, max(GRANT_LIMIT, tf_timeout) from
-    the first check (every POLL s) that finds sim_clock's connection closed
+    under lockstep for its next grant, max(GRANT_LIMIT, tf_timeout) with
+    sim_clock's connection closed, checked every POLL s
     (rbx1_nav.motion.ticks_ros); otherwise its ClockWatchdog, max(2 s,
-    tf_timeout) from the last tick, before the kill
-    (rbx1_nav.motion.watchdogs_ros). Then it stops the robot and logs why (at
+    tf_timeout) (rbx1_nav.motion.watchdogs_ros). Both waits begin at the
+    last tick, before the kill. Then it stops the robot and logs why (at
     once), rospy's shutdown takes up to SHUTDOWN_LIMIT (then the node
     exits without it, rbx1_nav.common.node_ros.exit_node), and the
     interpreter's exit up to EXIT.

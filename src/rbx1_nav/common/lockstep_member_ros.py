@@ -28,9 +28,9 @@ __all__ = ['GRANT_TOPIC', 'REPORT_TOPIC', 'GRANT_LIMIT', 'POLL', 'STALLED',
 #: Global topics, like /clock: one owner of simulated time per master.
 GRANT_TOPIC = '/lockstep_grant'
 REPORT_TOPIC = '/lockstep_report'
-#: Wall seconds a motion node waits for its next grant with no owner
-#: connected (sim_clock gone; a new one may take over meanwhile) before it
-#: takes the clock as gone. While the owner is connected it waits however
+#: Wall seconds after its last step a motion node takes the clock as gone
+#: if no owner is connected (sim_clock gone; a new one may take over
+#: meanwhile). While the owner is connected it waits however
 #: long time takes: time waits for the slowest member (sim_clock names it
 #: every second), and a loaded machine only makes a step take longer.
 GRANT_LIMIT = 4.0
@@ -296,11 +296,12 @@ class Member(object):
         time ns, grant): action HANDLE or BACK (rbx1_nav.common.lockstep_member.Follower).
         Sends the last report again every RESEND wall seconds without a
         grant (at once to a new owner). While an owner is connected it
-        waits however long the step takes; None once no owner has been
-        connected for ``limit`` wall seconds, or at shutdown.
+        waits however long the step takes; None once no owner is
+        connected ``limit`` wall seconds after the wait began (the last
+        step handled), or at shutdown.
         """
-        away = None  # wall s since which no owner is connected
-        resend = time.monotonic() + RESEND
+        started = time.monotonic()
+        resend = started + RESEND
         while not rospy.is_shutdown():
             with self.cond:
                 self.cond.wait_for(lambda: self.grant is not None or self.rejoin, POLL)
@@ -308,11 +309,8 @@ class Member(object):
                 rejoin, self.rejoin = self.rejoin, False
             if grant is None:
                 now = time.monotonic()
-                if self.sub.get_num_connections():
-                    away = None
-                elif away is None:
-                    away = now
-                elif limit is not None and now - away > limit:
+                if (limit is not None and now - started > limit
+                        and not self.sub.get_num_connections()):
                     return None
                 if rejoin or now > resend:
                     resend = now + RESEND

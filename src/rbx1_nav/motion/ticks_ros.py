@@ -29,7 +29,8 @@ class Ticks(object):
     join, the wait for its inputs' connections and the join itself each
     wait up to ``join_wait`` wall s; a grant is waited for as long as the
     owner is connected, and up to max(GRANT_LIMIT, ``grant_wait``) wall s
-    once it is not; ``stop()`` stops the robot when the owner is gone."""
+    after the last tick once it is not; ``stop()`` stops the robot when
+    the owner is gone."""
 
     def __init__(self, rate, member, join_wait, grant_wait, stop):
         self.rate = rate
