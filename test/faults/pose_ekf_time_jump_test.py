@@ -94,7 +94,10 @@ class TimeJumpTest(unittest.TestCase):
         odom_new = odom.after_jump(marks[1], new_clock)
         ekf_line = log.find(ekf_node, 'ROS time moved backwards by')
         odom_line = log.find(odom_ekf_node, 'ROS time moved backwards by')
-        print('RESULT time_jump: clock %.3f -> %.3f s; first odom_combined '
+        # Where the test struck depends on when its wall-clock poll saw the
+        # filter past jump + 1 s: the two clock figures are wall-timed.
+        print('RESULT time_jump: clock killed at %.3f s (wall-timed) and started '
+              'again at %.3f s (wall-timed); first odom_combined '
               '%.3f s after the new start, first odom_ekf %.3f s; logged %r, '
               '%r' % (before, back_to, fused_new[0] - back_to if fused_new
                       else float('nan'), odom_new[0] - back_to if odom_new
