@@ -197,19 +197,22 @@ class Inbox(object):
         self.ledger.arrived(topic, sender, link)
         self.taken[(topic, sender)] += 1
 
-    def take(self, counts, key, topic=None):
+    def take(self, counts, key, topic=None, members=()):
         """The items the grant's ``counts`` cover that were not taken
         before, plus every item from an uncounted sender, sorted by
         ``key(item)`` (then topic, sender and arrival): the same list on
-        every run once :meth:`MessageLedger.missing` is empty. Items
-        counted as lost are skipped. With ``topic``, that input's only."""
+        every run once :meth:`MessageLedger.missing` is empty. A sender
+        among the grant's ``members`` that has counted nothing on a topic
+        yet counts 0 there: its first messages wait for the grant that
+        counts them, however early they arrive. Items counted as lost are
+        skipped. With ``topic``, that input's only."""
         counted = {(t, s): count for t, s, count in counts}
         out = []
         for source, queue in sorted(self.held.items()):
             if topic is not None and source[0] != topic:
                 continue
-            if source in counted:
-                awaited = counted[source] - self.ledger.lost[source]
+            if source in counted or source[1] in members:
+                awaited = counted.get(source, 0) - self.ledger.lost[source]
                 n = min(len(queue), max(0, awaited - self.taken[source]))
             else:
                 n = len(queue)

@@ -409,7 +409,7 @@ class Member(object):
         self.wait_counted(grant)
         with self.cond:
             return self.inbox.take(zip(grant.topics, grant.senders, grant.counts), key,
-                                   topic)
+                                   topic, set(grant.members))
 
     def sent(self, topic):
         """Count a message this member published on ``topic`` (resolved)."""
