@@ -206,10 +206,9 @@ class TfFollower(object):
         publishes it on the same grant), however long that takes while
         the simulator is connected (up to STALLED s, a backstop); if it is
         not (it died), take what there is: the staleness check then ends
-        the course. Following
-        another member's transform (a filter's), take the last one the
-        grant counts (waiting for it, as a simulator waits for its
-        commands), not one published since.
+        the course. Following another member's transform (a filter's),
+        take the last one the grant counts (waiting for it, as a simulator
+        waits for its commands), not one published since.
         """
         if grant is None:
             return self.lookup()
