@@ -197,21 +197,25 @@ class Inbox(object):
         self.ledger.arrived(topic, sender, link)
         self.taken[(topic, sender)] += 1
 
-    def take(self, counts, key, topic=None, members=()):
+    def take(self, counts, members, key, topic=None):
         """The items the grant's ``counts`` cover that were not taken
-        before, plus every item from an uncounted sender, sorted by
-        ``key(item)`` (then topic, sender and arrival): the same list on
-        every run once :meth:`MessageLedger.missing` is empty. A sender
-        among the grant's ``members`` that has counted nothing on a topic
-        yet counts 0 there: its first messages wait for the grant that
-        counts them, however early they arrive. Items counted as lost are
+        before, plus every item from a sender the grant does not name
+        among the ``members`` it is granted to, sorted by ``key(item)`` (then topic, sender and
+        arrival): the same list on every run once
+        :meth:`MessageLedger.missing` is empty. A sender granted this step
+        may send meanwhile: what it sends waits for the grant that counts
+        it, however early it arrives (its first messages too: no count
+        yet counts 0). One not granted this step sends nothing tick by
+        tick: what it sent past its count is not a member's (a node that
+        is no member, or one that has left, such as a course's stop on
+        its way out) and is taken as it comes. Items counted as lost are
         skipped. With ``topic``, that input's only."""
         counted = {(t, s): count for t, s, count in counts}
         out = []
         for source, queue in sorted(self.held.items()):
             if topic is not None and source[0] != topic:
                 continue
-            if source in counted or source[1] in members:
+            if source[1] in members:
                 awaited = counted.get(source, 0) - self.ledger.lost[source]
                 n = min(len(queue), max(0, awaited - self.taken[source]))
             else:

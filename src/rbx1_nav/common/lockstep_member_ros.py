@@ -86,9 +86,11 @@ class Member(object):
     grant, and /clock moves only with them.
 
     A motion node waits for each of its ticks with :meth:`wait_grant`. A
-    simulator passes ``step``: step(action, time ns) steps to a granted
-    time (action HANDLE or BACK, as wait_grant returns) and returns its
-    next tick (ns); :meth:`serve` then runs it.
+    simulator passes ``step``: step(action, time ns, items) steps to a
+    granted time (action HANDLE or BACK, as wait_grant returns) and
+    returns its next tick (ns); :meth:`serve` then runs it. With ``hold``
+    ``items`` are those of the messages the grant counts (:meth:`take`),
+    per sender in their order of arrival; otherwise none.
     """
 
     def __init__(self, every_step=False, inputs=(), step=None, hold=False,
@@ -146,8 +148,12 @@ class Member(object):
             taken = self.failure is None and self._take(grant)
             if taken:
                 action, time_ns, _ = taken
-                self.wait_counted(grant)
-                self.report(time_ns, self.step(action, time_ns))
+                if self.inbox is None:
+                    self.wait_counted(grant)
+                    held = []
+                else:  # a simulator's commands: per sender, as they came
+                    held = self.take(grant, key=lambda item: 0)
+                self.report(time_ns, self.step(action, time_ns, held))
         except Exception as err:  # serve raises it in the node's own thread
             with self.cond:
                 self.failure = err
@@ -391,15 +397,18 @@ class Member(object):
     def arrived(self, topic, msg, item=None):
         """Count a message that arrived on ``topic`` (an input); with
         ``hold``, keep ``item`` (what the member needs of it) for :meth:`take`
-        while a member (a course between two runs keeps nothing)."""
+        while a member (a course between two runs keeps nothing). True if
+        it is kept."""
         with self.cond:
+            kept = self.inbox is not None and self.joined
             if self.inbox is None:
                 self.ledger.arrived(topic, sender(msg), link(msg))
-            elif self.joined:
+            elif kept:
                 self.inbox.arrived(topic, sender(msg), item, link(msg))
             else:
                 self.inbox.passed(topic, sender(msg), link(msg))
             self.cond.notify_all()
+        return kept
 
     def take(self, grant, key, topic=None):
         """With ``hold``: the items of the messages ``grant`` counts on the
@@ -408,8 +417,8 @@ class Member(object):
         on every run (rbx1_nav.common.lockstep_member.Inbox)."""
         self.wait_counted(grant)
         with self.cond:
-            return self.inbox.take(zip(grant.topics, grant.senders, grant.counts), key,
-                                   topic, set(grant.members))
+            return self.inbox.take(zip(grant.topics, grant.senders, grant.counts),
+                                   set(grant.members), key, topic)
 
     def sent(self, topic):
         """Count a message this member published on ``topic`` (resolved)."""

@@ -80,7 +80,7 @@ def spin_lockstep(rate, step, robots, log_name):
     starts the model again from there.
     """
     grid = _Grid(int(round(1e9 / rate)), step, robots, log_name)
-    member = lockstep.Member(every_step=True, step=grid.step_to,
+    member = lockstep.Member(every_step=True, step=grid.step_to, hold=True,
                              inputs=[r.cmd_sub.resolved_name for r in robots])
     for robot in robots:
         robot.member = member
@@ -101,9 +101,13 @@ class _Grid(object):
         self.next = None  # the grid's next step (ns); None: from the next grant
         self.last = None  # the last step taken (ns)
 
-    def step_to(self, action, now):
-        """Step through the grid up to the granted ``now`` (ns) and to
-        ``now`` itself; return the next step wanted."""
+    def step_to(self, action, now, commands):
+        """Queue the ``commands`` the grant counts ((robot, Twist) pairs:
+        each from the step it was sent after, the last one taken), step
+        through the grid up to the granted ``now`` (ns) and to ``now``
+        itself; return the next step wanted."""
+        for robot, msg in commands:
+            robot.command(msg)
         if action == BACK:
             _time_moved_back(self.log_name, rospy.ROSTimeMovedBackwardsException(
                 (self.last - now) * 1e-9))
@@ -121,7 +125,7 @@ class _Grid(object):
 
 
 def _step_at(time_ns, step, robots):
-    """Step to ``time_ns``; commands arriving from now on count from there."""
+    """Step to ``time_ns``; commands queued from now on count from there."""
     for robot in robots:
         robot.step_time = time_ns * 1e-9
     step(from_ns(time_ns))

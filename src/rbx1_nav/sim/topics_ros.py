@@ -166,24 +166,30 @@ class RobotTopics:
         world.transform.rotation.w = 1.0
         self.static_tf.publish(TFMessage([world]))
         # Under lockstep (rbx1_nav.sim.loop_ros.spin_simulator): the
-        # simulator's membership, which counts every command and sensor
-        # message, and the step
-        # being handled, the time of every command that arrives until the
-        # next (None: ROS time).
+        # simulator's membership, which counts and holds every command,
+        # and the last step taken, the time each command is queued at
+        # (None: ROS time).
         self.member = None
         self.step_time = None
         self.cmd_sub = rospy.Subscriber(topic('cmd_vel'), Twist, self.on_cmd_vel,
                                         queue_size=100, tcp_nodelay=True)
 
     def on_cmd_vel(self, msg):
-        """Queue a command; warn (throttled) about rejected or clamped ones."""
+        """Queue a command, or under lockstep hold it for the grant that
+        counts it: a course granted the step being handled may send it
+        before the simulator has stepped there."""
+        if self.member is None or not self.member.arrived(
+                self.cmd_sub.resolved_name, msg, (self, msg)):
+            self.command(msg)
+
+    def command(self, msg):
+        """Queue a command from the last step (now without one); warn
+        (throttled) about rejected or clamped ones."""
         now = self.step_time
         if now is None:
             now = rospy.Time.now().to_sec()
         with self.lock:
             problem = self.robot.command(msg.linear.x, msg.angular.z, now)
-        if self.member is not None:
-            self.member.arrived(self.cmd_sub.resolved_name, msg)
         if problem is None or not self.throttle.ready(problem, now):
             return
         if problem == 'non-finite':
