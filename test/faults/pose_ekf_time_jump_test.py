@@ -95,14 +95,18 @@ class TimeJumpTest(unittest.TestCase):
         ekf_line = log.find(ekf_node, 'ROS time moved backwards by')
         odom_line = log.find(odom_ekf_node, 'ROS time moved backwards by')
         # Where the test struck depends on when its wall-clock poll saw the
-        # filter past jump + 1 s: the two clock figures are wall-timed.
+        # filter past jump + 1 s: the two clock figures, and the jumps the
+        # nodes logged (their difference), are wall-timed.
+        jumps = [re.search(r'moved backwards by ([\d.]+) s', line.msg) if line else None
+                 for line in (ekf_line, odom_line)]
         print('RESULT time_jump: clock killed at %.3f s (wall-timed) and started '
               'again at %.3f s (wall-timed); first odom_combined '
-              '%.3f s after the new start, first odom_ekf %.3f s; logged %r, '
-              '%r' % (before, back_to, fused_new[0] - back_to if fused_new
-                      else float('nan'), odom_new[0] - back_to if odom_new
-                      else float('nan'), ekf_line and ekf_line.msg,
-                      odom_line and odom_line.msg))
+              '%.3f s after the new start, first odom_ekf %.3f s; jump logged by '
+              'pose_ekf %s s (wall-timed), by odom_ekf %s s (wall-timed)'
+              % ((before, back_to,
+                  fused_new[0] - back_to if fused_new else float('nan'),
+                  odom_new[0] - back_to if odom_new else float('nan'))
+                 + tuple(found.group(1) if found else 'none' for found in jumps)))
         self.assertTrue(fused_new, 'pose_ekf published nothing on the new clock')
         self.assertLessEqual(fused_new[0] - back_to, within)
         self.assertTrue(odom_new, 'odom_ekf republished nothing on the new clock')
@@ -110,9 +114,9 @@ class TimeJumpTest(unittest.TestCase):
         for name, stamps in (('odom_combined', fused_new), ('odom_ekf', odom_new)):
             self.assertTrue(all(b > a for a, b in zip(stamps, stamps[1:])),
                             '%s went back in time on the new clock' % name)
-        for node, line in ((ekf_node, ekf_line), (odom_ekf_node, odom_line)):
+        for node, line, found in zip((ekf_node, odom_ekf_node), (ekf_line, odom_line), jumps):
             self.assertIsNotNone(line, '%s did not log the time jump' % node)
-            found = re.search(r'moved backwards by ([\d.]+) s', line.msg)
+            self.assertIsNotNone(found, line.msg)
             self.assertAlmostEqual(float(found.group(1)), jump, delta=1.0)
             self.assertIn('a bag looping or the simulator restarted? '
                           'Restarting from the next readings', line.msg)
