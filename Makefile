@@ -74,8 +74,8 @@ lint: build $(VENV)/.$(VERMIN)
 
 # Unit tests (pytest, no master), every test/rostest/*.test through rostest, and the
 # fault suite, in one pytest run of three workers on the two cores: the
-# free-running rostests one after another in one, the two-host fault suite
-# one after another in another (both follow the wall clock: normal
+# rostests that follow the wall clock one after another in one, the
+# two-host fault suite one after another in another (both at normal
 # priority), everything else spread over all three at a lower priority
 # (test/conftest.py). pytest's summary is the last line.
 REPORTS := $(WS)/test_results

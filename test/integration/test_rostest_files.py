@@ -3,12 +3,14 @@ pytest case each.
 
 This lets `make test` report unit and integration results in one pytest
 summary. `catkin_make run_tests` runs the same files through add_rostest().
-The files whose graph runs under lockstep at full speed
-(`sim_speed" value="max"`), or that say BESIDE (every node that keeps time
-is a lockstep member), cannot fall behind their clock: they run in any
-worker, at a lower priority (test/conftest.py). The others, whose nodes
-follow a free-running clock, run one after another (one xdist group) at
+A file whose verdict the machine's load cannot change runs in any worker,
+at a lower priority (test/conftest.py): its graph runs under lockstep at
+full speed (`sim_speed" value="max"`), or it says BESIDE (every node that
+keeps time is a lockstep member) or NO_CLOCK (no simulated clock, and its
+wall-clock waits are deadlines, not measurements). The others, whose
+nodes follow the wall clock, run one after another (one xdist group) at
 normal priority, so the machine's load cannot make them fall behind.
+bench/determinism.py shows which verdicts and figures load changes.
 """
 import glob
 import os
@@ -22,6 +24,8 @@ ALL_FILES = sorted(glob.glob(os.path.join(TEST_DIR, 'rostest', '*.test'))
 
 
 BESIDE = '<!-- beside other tests: every timed node is a lockstep member -->'
+NO_CLOCK = ('<!-- beside other tests: no simulated clock, and its wall-clock waits '
+            'are deadlines, not measurements -->')
 
 
 def _text(path):
@@ -29,9 +33,10 @@ def _text(path):
         return f.read()
 
 
-def lockstep_only(path):
+def beside_others(path):
     text = _text(path)
-    return '<arg name="sim_speed" value="max"/>' in text or BESIDE in text
+    return ('<arg name="sim_speed" value="max"/>' in text or BESIDE in text
+            or NO_CLOCK in text)
 
 
 def run_rostest(test_file):
@@ -44,7 +49,7 @@ def run_rostest(test_file):
 
 
 PARAMS = [pytest.param(f, id=os.path.relpath(f, TEST_DIR),
-                       marks=[] if lockstep_only(f) else [pytest.mark.xdist_group('free_running')])
+                       marks=[] if beside_others(f) else [pytest.mark.xdist_group('free_running')])
           for f in ALL_FILES]
 
 
