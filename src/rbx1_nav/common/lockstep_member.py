@@ -199,17 +199,18 @@ class Inbox(object):
 
     def take(self, counts, members, key, topic=None):
         """The items the grant's ``counts`` cover that were not taken
-        before, plus every item from a sender the grant does not name
-        among the ``members`` it is granted to, sorted by ``key(item)`` (then topic, sender and
+        before, plus every item from a sender not among the ``members``
+        it is granted to, sorted by ``key(item)`` (then topic, sender and
         arrival): the same list on every run once
-        :meth:`MessageLedger.missing` is empty. A sender granted this step
-        may send meanwhile: what it sends waits for the grant that counts
-        it, however early it arrives (its first messages too: no count
-        yet counts 0). One not granted this step sends nothing tick by
-        tick: what it sent past its count is not a member's (a node that
-        is no member, or one that has left, such as a course's stop on
-        its way out) and is taken as it comes. Items counted as lost are
-        skipped. With ``topic``, that input's only."""
+        :meth:`MessageLedger.missing` is empty.
+
+        A sender granted this step may send meanwhile: what it sends
+        waits for the grant that counts it, however early it arrives (its
+        first messages too: no count yet counts 0). One not granted this
+        step sends nothing tick by tick: what it sent past its count is
+        not a member's (a node that is no member, or one that has left,
+        such as a course's stop on its way out), taken as it comes. Items
+        counted as lost are skipped. With ``topic``, that input's only."""
         counted = {(t, s): count for t, s, count in counts}
         out = []
         for source, queue in sorted(self.held.items()):
