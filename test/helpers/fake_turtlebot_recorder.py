@@ -60,9 +60,12 @@ class Recorder:
         self.cmd_pub.publish(msg)
         return rospy.Time.now().to_sec()
 
-    def wait_stopped(self, after, timeout):
-        """Wait until the odometry moved after ``after`` s and then stopped."""
-        return wait_for(lambda: motion_episode(self.snapshot('odom'), after), timeout)
+    def wait_stopped(self, after, wall_limit):
+        """Wait until the odometry moved after ``after`` s and then stopped;
+        False after ``wall_limit`` wall s (a deadline: simulated time runs
+        at the simulator's pace, not this node's)."""
+        return wait_for(lambda: motion_episode(self.snapshot('odom'), after),
+                        wall_limit, wall=True)
 
 
 def wait_for(predicate, timeout, poll=0.02, wall=False):

@@ -121,11 +121,25 @@ class StraightLine(unittest.TestCase):
             self.assertTrue(all(cov[7 * i] > 0 for i in range(6)), cov)
 
     def test_robot_model_is_animated_in_tf(self):
-        tf = self.tf_buffer.lookup_transform('odom', 'left_wheel_link', rospy.Time(0),
-                                             rospy.Duration(5.0))
-        self.assertAlmostEqual(tf.transform.translation.x, self.odom[-1][1], delta=1e-6)
-        self.assertAlmostEqual(tf.transform.translation.y, 0.13, delta=1e-6)
-        self.assertTrue(math.isfinite(tf.transform.rotation.w))
+        # robot_state_publisher is no lockstep member: its wheel transforms
+        # may lag, so wait (a wall-clock deadline: at 20x, 5 simulated s
+        # are a quarter of a wall second) for the wheel where the robot stopped.
+        def wheel():
+            try:
+                return self.tf_buffer.lookup_transform('odom', 'left_wheel_link',
+                                                       rospy.Time(0)).transform
+            except tf2_ros.TransformException:
+                return None
+
+        def at_stop():
+            tf = wheel()
+            return tf is not None and abs(tf.translation.x - self.odom[-1][1]) <= 1e-6
+        wait_for(at_stop, 30.0, wall=True)
+        tf = wheel()
+        self.assertIsNotNone(tf, 'no odom -> left_wheel_link on tf')
+        self.assertAlmostEqual(tf.translation.x, self.odom[-1][1], delta=1e-6)
+        self.assertAlmostEqual(tf.translation.y, 0.13, delta=1e-6)
+        self.assertTrue(math.isfinite(tf.rotation.w))
 
 
 if __name__ == '__main__':
