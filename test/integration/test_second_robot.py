@@ -3,6 +3,11 @@
 launch says a robot is already up and ends; the first robot, its
 robot_state_publisher among its nodes, goes on, unmoved, and still drives.
 
+And a node the master mistakes for another one: rosmaster asks a node
+to shut down when a new node takes its name, at the address the old one
+registered, which another node may have since (ros/ros_comm#2241): the
+package's nodes refuse a request that names another node.
+
 Each test starts its own roscore on a free port and kills every process it
 started (rbx1_nav.sim.already_up)."""
 import os
@@ -11,6 +16,7 @@ import signal
 import subprocess
 import sys
 import time
+import xmlrpc.client
 
 import pytest
 
@@ -127,3 +133,33 @@ def test_a_second_robot_is_refused_and_the_first_goes_on(graph, second):
     graph.start(['rostopic', 'pub', '-r', '20', '/cmd_vel', 'geometry_msgs/Twist',
                  '{linear: {x: 0.2}}'], 'drive')
     graph.wait_for(lambda: graph.odom_x() > 0.05, 'motion of the first robot')
+
+
+def test_a_shutdown_meant_for_another_node_is_refused(graph):
+    robot = graph.start(['rosrun', 'rbx1_nav', 'fake_turtlebot.py'], 'robot')
+    graph.wait_for(lambda: '/fake_turtlebot' in graph.nodes(), 'the robot')
+    pid = graph.node_pid('/fake_turtlebot')
+    master = xmlrpc.client.ServerProxy(graph.env['ROS_MASTER_URI'])
+    uri = master.lookupNode('/test', '/fake_turtlebot')[2]
+    # What a calibrate_linear that ended without unregistering leaves on
+    # the master when the robot has been given its port since; then a new
+    # calibrate_linear starts: the master sends the old one's address a
+    # shutdown naming /calibrate_linear.
+    master.registerPublisher('/calibrate_linear', '/stale', 'std_msgs/String', uri)
+    master.registerPublisher('/calibrate_linear', '/stale', 'std_msgs/String',
+                             'http://localhost:9/')
+    graph.wait_for(lambda: robot.poll() is not None or any(
+        line in graph.output('robot') for line in ('refused, this node goes on',
+                                                   'shutdown request')), 'the request')
+    assert robot.poll() is None, graph.output('robot')
+    assert graph.node_pid('/fake_turtlebot') == pid
+    assert graph.run(['rosnode', 'ping', '-c', '1', '/fake_turtlebot']).returncode == 0
+
+    # The same request naming the robot is obeyed: it ends, unregistered.
+    master.registerPublisher('/fake_turtlebot', '/stale', 'std_msgs/String',
+                             'http://localhost:9/')
+    try:
+        robot.wait(END_LIMIT)
+    except subprocess.TimeoutExpired:
+        pytest.fail('the robot did not end:\n' + graph.output('robot'))
+    assert 'new node registered with same name' in graph.output('robot')

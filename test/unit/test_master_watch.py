@@ -4,7 +4,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from rbx1_nav.common.master_watch import (BACK, GONE, GONE_AFTER, RESTARTED,
-                                          MasterStates, gone_text, restarted_text,
+                                          MasterStates, gone_text, misdirected_text,
+                                          replaced_node, restarted_text,
                                           reregistering_text, same_master)
 
 OLD, NEW = (101, 'run-a'), (202, 'run-b')  # (pid, run_id) of two masters
@@ -124,3 +125,20 @@ def test_the_texts_name_the_node_the_master_and_the_fix():
     assert 'restarted' in text and 'Fix: restart this node' in text
     assert 'RViz' in reregistering_text('pose_ekf', uri)
     assert 'connection refused' in gone_text('pose_ekf', uri, 'connection refused')
+
+
+def test_the_master_s_request_to_a_replaced_node_names_it():
+    # rosmaster.registrations.shutdown_node_task's words.
+    assert replaced_node('[/calibrate_linear] Reason: new node registered with '
+                         'same name') == '/calibrate_linear'
+    assert replaced_node('[/ns/robot_1] Reason: new node registered with same '
+                         'name') == '/ns/robot_1'
+    # Other requests name nobody: rosnode kill's, an empty one.
+    for msg in ('user request', '', None, '[/x] Reason: something else'):
+        assert replaced_node(msg) is None
+
+
+def test_a_refused_shutdown_names_both_nodes_and_the_cause():
+    text = misdirected_text('/fake_turtlebot', '/calibrate_linear')
+    assert text.startswith('/fake_turtlebot: ')
+    assert '/calibrate_linear' in text and 'ros_comm#2241' in text

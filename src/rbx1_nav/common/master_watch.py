@@ -10,6 +10,7 @@ in rospy says so. :class:`MasterStates` turns one observation per poll (the
 master's identity, or None when it did not answer) into the events a node
 acts on. It imports no rospy; ``rbx1_nav.common.master_ros`` does the polling.
 """
+import re
 import xmlrpc.client
 
 #: Failed polls in a row before the master counts as gone, so that a lossy
@@ -38,6 +39,27 @@ def proxy(uri, timeout=TIMEOUT):
     """An XML-RPC proxy to ``uri`` (the master, a node) whose calls time out
     after ``timeout`` s: never rospy's connection, which has no timeout."""
     return xmlrpc.client.ServerProxy(uri, transport=_TimeoutTransport(timeout))
+
+
+#: rosmaster's shutdown request to a node that a new node of its name
+#: replaces (rosmaster.registrations.shutdown_node_task).
+_REPLACED = re.compile(r'\[([^\]]*)\] Reason: new node registered with same name')
+
+
+def replaced_node(msg):
+    """The node name in a master's shutdown request ``msg`` saying that a
+    new node of that name replaced it; None for any other request (a user's
+    ``rosnode kill``)."""
+    found = _REPLACED.match(msg or '')
+    return found.group(1) if found else None
+
+
+def misdirected_text(name, meant):
+    """A node refusing the master's shutdown meant for the node ``meant``."""
+    return ('%s: the ROS master asked this node to shut down because a new '
+            '%s replaced the old one, whose address it still had: that node '
+            'ended without unregistering and this one got its port '
+            '(ros/ros_comm#2241); refused, this node goes on' % (name, meant))
 
 
 def same_master(seen, reference):

@@ -9,7 +9,9 @@ from its command line or launch file (a typo), warns about other unknown
 ones (naming the nearest known one), logs the values it uses and names those
 left on the parameter server by an earlier run (params.leftovers).
 :func:`until_shutdown` runs a node's main loop; :func:`exit_node` is a
-node's last line.
+node's last line, and waits for the node to unregister while the master
+answers. A node refuses a shutdown request the master meant for another
+node (:func:`refuse_misdirected_shutdowns`).
 """
 import os
 import signal
@@ -19,8 +21,11 @@ import time
 
 import rosgraph
 import rospy
+from rospy.impl.masterslave import ROSHandler
 
 from rbx1_nav.common import params
+from rbx1_nav.common.master_ros import master_identity
+from rbx1_nav.common.master_watch import misdirected_text, replaced_node
 from rbx1_nav.common.ros_time import no_clock_text
 
 
@@ -43,6 +48,33 @@ def shut_down_on_signals(signums=(signal.SIGINT, signal.SIGTERM)):
     ``rospy.init_node(..., disable_signals=True)``."""
     for signum in signums:
         signal.signal(signum, _shutdown_on_signal)
+
+
+def refuse_misdirected_shutdowns():
+    """Refuse the master's shutdown request meant for another node.
+
+    When a node starts under a name the master has on record, rosmaster
+    sends the old node a shutdown request at the address it registered. If
+    the old node ended without unregistering (killed, or gone while the
+    master was slow to answer), another node may have been given its port
+    since, and that node shuts down instead (ros/ros_comm#2241): seen in
+    the population bench, where a simulator had the port of an earlier
+    calibrate_linear and died as the next one started. A request naming
+    this node, and any other (``rosnode kill``), is obeyed as before.
+    """
+    obey = ROSHandler.shutdown
+    if getattr(obey, 'refuses_misdirected', False):
+        return
+
+    def shutdown(handler, caller_id, msg=''):
+        meant = replaced_node(msg)
+        if meant is not None and meant != rospy.get_name():
+            rospy.logwarn(misdirected_text(rospy.get_name(), meant))
+            return 1, 'not %s: refused' % meant, 0
+        return obey(handler, caller_id, msg)
+
+    shutdown.refuses_misdirected = True
+    ROSHandler.shutdown = shutdown
 
 
 def exit_if_help(specs, doc):
@@ -139,6 +171,7 @@ def start_node(name, specs, doc, clock=True):
     exit_if_help(specs, doc)
     wait_for_master(name)
     shut_down_on_signals()
+    refuse_misdirected_shutdowns()
     rospy.init_node(name, disable_signals=True)
     cache_rosout_setting()
     if clock and not wait_for_clock(CLOCK_WAIT):
@@ -167,9 +200,36 @@ def until_shutdown(loop):
             raise
 
 
-#: Wall seconds rospy's shutdown may take (it unregisters from the master)
-#: before the node exits without it.
+#: Wall seconds rospy's shutdown (hooks, then unregistering from the
+#: master) may take, unless the master answered meanwhile.
 SHUTDOWN_LIMIT = 1.0
+#: Wall seconds after which the node exits even though the master answers.
+SHUTDOWN_BACKSTOP = 10.0
+
+
+def _ask_master(timeout):
+    """Ask the master who it is, in a thread of its own; return an Event
+    set once it has answered (within ``timeout`` s)."""
+    answered = threading.Event()
+
+    def ask():
+        try:
+            master_identity(rosgraph.get_master_uri(), rospy.get_name(), timeout)
+        except Exception:  # refused, timed out, reset: no answer
+            return
+        answered.set()
+
+    threading.Thread(target=ask, daemon=True).start()
+    return answered
+
+
+def _shut_down(reason):
+    """rospy's shutdown, or the end of the one already under way (a
+    signal's, the master's request): rospy runs its hooks, unregistering
+    from the master among them, holding its shutdown lock."""
+    rospy.signal_shutdown(reason)
+    with rospy.core._shutdown_lock:
+        pass
 
 
 def exit_node(name, status):
@@ -177,17 +237,28 @@ def exit_node(name, status):
 
     Shutdown hooks run first (a motion node's stop goes out); rospy then
     unregisters from the master over a connection without a timeout, which
-    hangs for minutes when the master is unreachable. After SHUTDOWN_LIMIT
-    wall seconds the node exits anyway; the master drops it when it next
-    fails to reach it.
+    hangs for minutes when the master is unreachable. A shutdown already
+    under way (Ctrl-C's) is waited for too: a node that exits before it has
+    unregistered stays on the master's record, and the next node of its
+    name has the master send a shutdown to its old address, whichever node
+    has that port by then (refuse_misdirected_shutdowns). So the node waits
+    in rounds of SHUTDOWN_LIMIT wall seconds, asking the master who it is
+    meanwhile: while the master answers, however busy, it waits on (up to
+    SHUTDOWN_BACKSTOP); once a round passes without an answer (the link
+    down, the master killed or hung) it exits without unregistering, and
+    the master drops it when it next fails to reach it.
     """
-    done = threading.Thread(target=rospy.signal_shutdown, daemon=True,
+    started = time.monotonic()
+    done = threading.Thread(target=_shut_down, daemon=True,
                             args=('%s finished' % name,))
     done.start()
-    done.join(SHUTDOWN_LIMIT)
-    if done.is_alive():
-        sys.stderr.write('%s: the master at %s does not answer; exiting without '
-                         'unregistering\n' % (name, rosgraph.get_master_uri()))
-        sys.stderr.flush()
-        os._exit(status)
-    raise SystemExit(status)
+    while True:
+        answered = _ask_master(SHUTDOWN_LIMIT)
+        done.join(SHUTDOWN_LIMIT)
+        if not done.is_alive():
+            raise SystemExit(status)
+        if not answered.is_set() or time.monotonic() - started > SHUTDOWN_BACKSTOP:
+            sys.stderr.write('%s: the master at %s does not answer; exiting without '
+                             'unregistering\n' % (name, rosgraph.get_master_uri()))
+            sys.stderr.flush()
+            os._exit(status)
