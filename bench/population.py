@@ -209,6 +209,15 @@ def run_robot(robot, model, umbmark_runs, watch, workdir, short=False):
             for mode in ('book', 'precise'):
                 for unit in ('mm', 'deg'):
                     row['after_%s_%s' % (mode, unit)] = row['scaled_%s_%s' % (mode, unit)]
+    except (AssertionError, OSError, RuntimeError):
+        ended = fake.proc.poll()
+        if ended is not None and not fake.log.closed:  # not closed here: say so
+            with open(fake.log.name) as f:
+                tail = f.read()[-2000:]
+            print('robot %d: its simulator had ended (exit %d) before this failure; '
+                  'the end of its log (%s):\n%s' % (robot['id'], ended, fake.log.name, tail),
+                  flush=True)
+        raise
     finally:
         fake.close()
     return row
@@ -347,7 +356,6 @@ def quantiles(values):
     return (float(np.median(values)), float(np.percentile(values, 90)), max(values))
 
 
-
 def markdown(rows, model, args, wall):
     ok = [r for r in rows if 'failed' not in r]
     lines = ['### %s robots (%d drawn from seed %d)' % (model, len(rows), args.seed), '',
@@ -360,6 +368,9 @@ def markdown(rows, model, args, wall):
     if failed:
         lines += ['%d robots failed a step: %s' % (len(failed), '; '.join(
             'robot %d: %s' % (r['id'], r['failed']) for r in failed)), '']
+    if not ok:
+        return '\n'.join(lines + ['No robot went through the procedure: no table. '
+                                   'The lane logs say why.'])
     lines += ['| stage | position mm: median | 90 % | worst | heading deg: median | 90 % '
               '| worst | within 1 cm and 3 deg |', '|---|---|---|---|---|---|---|---|']
     for name, label in STAGES:

@@ -59,7 +59,9 @@ def wait_for_sim_time(uri, procs, limit=60.0):
 
 
 # One RViz at a time: two at once, on a loaded machine, aborted one of them
-# inside RViz ("free(): invalid next size") in two suite runs of five.
+# inside RViz ("free(): invalid next size") in two suite runs of five. The
+# rostests that start RViz (book_lines.test) are in this group too
+# (test_rostest_files.RVIZ).
 @pytest.mark.xdist_group('rviz')
 @pytest.mark.parametrize('config', sorted(CASES))
 def test_rviz_draws_odometry_and_ground_truth(config, tmp_path):
