@@ -74,7 +74,8 @@ def test_rostest(test_file):
 def test_every_rostest_that_starts_rviz_says_so():
     """A .test whose test script drives RViz (rviz_screen) carries RVIZ."""
     for path in ALL_FILES:
-        scripts = re.findall(r'<test [^>]*type="([^"]+\.py)"', _text(path))
-        drives_rviz = any('rviz_screen' in _text(os.path.join(os.path.dirname(path), s))
-                          for s in scripts if os.path.exists(os.path.join(os.path.dirname(path), s)))
+        here = os.path.dirname(path)
+        scripts = [os.path.join(here, name) for name in
+                   re.findall(r'<test [^>]*type="([^"]+\.py)"', _text(path))]
+        drives_rviz = any('rviz_screen' in _text(script) for script in scripts)
         assert drives_rviz == (RVIZ in _text(path)), path

@@ -152,10 +152,11 @@ def test_a_shutdown_meant_for_another_node_is_refused(graph):
         line in graph.output('robot') for line in ('refused, this node goes on',
                                                    'shutdown request')), 'the request')
     assert robot.poll() is None, graph.output('robot')
+    assert 'refused, this node goes on' in graph.output('robot')
     assert graph.node_pid('/fake_turtlebot') == pid
     assert graph.run(['rosnode', 'ping', '-c', '1', '/fake_turtlebot']).returncode == 0
 
-    # The same request naming the robot is obeyed: it ends, unregistered.
+    # The same request naming the robot is obeyed: it ends.
     master.registerPublisher('/fake_turtlebot', '/stale', 'std_msgs/String',
                              'http://localhost:9/')
     try:
