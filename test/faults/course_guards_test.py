@@ -7,7 +7,11 @@ full speed with the fake robot; ``~case`` picks the fault:
 
 * ``driver``: another node (this test) publishes zeros on the course's
   cmd_vel from before it starts (a warning only: the course drives on),
-  then, once the robot is under way, one command to move;
+  then, once the robot is under way, one command to move. It does so as
+  a lockstep member, at ticks of its own, as a teleop node would at
+  10 Hz: time waits for it, so the course cannot end before it has
+  looked (at full speed a course takes half a wall second, less than
+  this node may wait for the CPU on a loaded machine);
 * ``two_publishers``: a second fake robot in namespace robot1 with the
   same frames on /tf (the .test starts both); the course in robot1
   follows a transform that two nodes publish, and each fake robot names
@@ -34,6 +38,9 @@ from nav_msgs.msg import Odometry
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from course_harness import (CourseProcess, RosoutWatch, RobotWatch,  # noqa: E402
                             is_zero, launched_node_status, wait_sim, wait_until)
+from rbx1_nav.common import lockstep_member_ros as lockstep  # noqa: E402
+from rbx1_nav.common.lockstep_member import ALIGN, aligned  # noqa: E402
+from rbx1_nav.common.publish_ros import to_ns  # noqa: E402
 
 #: A short course: one leg.
 SHORT = {'legs': 1, 'goal_distance': 0.5, 'tf_timeout': 5.0}
@@ -88,32 +95,36 @@ class CourseGuardsTest(unittest.TestCase):
         me = rospy.get_name()
         watch = RobotWatch()
         commands = Commands('cmd_vel')
-        intruder = rospy.Publisher('cmd_vel', Twist, queue_size=10)
         start = watch.wait_for_truth()
-        stop_zeros = threading.Event()
-
-        def zeros():  # a teleop node at rest: zeros, ten a second
-            while not stop_zeros.is_set() and not rospy.is_shutdown():
-                intruder.publish(Twist())
-                rospy.rostime.wallsleep(0.1)
-
-        zero_thread = threading.Thread(target=zeros, daemon=True)
-        zero_thread.start()
-        rospy.rostime.wallsleep(1.0)  # registered before the course looks
+        member = lockstep.Member()
+        rospy.on_shutdown(member.leave)
+        intruder = member.publisher(rospy.resolve_name('cmd_vel'), Twist)
+        member.wait_for_inputs(30.0, me)  # the robot hears it before it joins
+        member.join(30.0)
         course = CourseProcess(params=SHORT)
+        moved = False
         try:
-            self.assertTrue(wait_until(lambda: watch.moved_since(start) > 0.1
-                                       or not course.running()), course.output)
-            stop_zeros.set()
-            zero_thread.join()
-            self.assertTrue(course.running(), 'zeros ended the course:\n'
+            # Ticks at multiples of ALIGN (0.1 s), where the simulator has
+            # a step: its ground truth at the tick is awaited, as a
+            # course awaits its transform.
+            for _, tick, _ in member.grants(me):
+                if tick % ALIGN == 0:
+                    self.assertTrue(wait_until(lambda: to_ns(
+                        watch.truth.header.stamp) >= tick), 'no ground truth at the tick')
+                    moved = watch.moved_since(start) > 0.1
+                if moved or not course.running():
+                    break
+                intruder.publish(Twist())  # a teleop node at rest: zeros
+                member.report(tick, aligned(tick + 1))
+            self.assertTrue(moved, 'the course ended before the robot moved 0.1 m:\n'
                             + course.output)
             move = Twist()
             move.linear.x = 0.1
             intruder.publish(move)
+            member.leave()  # its report counts the move: the robot waits for it
             status = course.wait()
         finally:
-            stop_zeros.set()
+            member.leave()
             course.cleanup()
         out = course.output
         line = self.one_error_line(course, 'commanded the robot on')
