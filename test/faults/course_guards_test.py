@@ -118,6 +118,8 @@ class CourseGuardsTest(unittest.TestCase):
                 member.report(tick, aligned(tick + 1))
             self.assertTrue(moved, 'the course ended before the robot moved 0.1 m:\n'
                             + course.output)
+            self.assertTrue(course.running(), 'zeros ended the course:\n'
+                            + course.output)
             move = Twist()
             move.linear.x = 0.1
             intruder.publish(move)
