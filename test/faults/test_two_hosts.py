@@ -73,18 +73,29 @@ def within(error):
 
 
 class Lines(object):
-    """A process's output lines, each with the wall time it arrived."""
+    """A process's output lines, each with the wall time it arrived. Once
+    the process has ended, reading them waits for the last (its reader
+    may be behind the process's exit on a loaded machine: the line a node
+    writes just before it exits was missed once, CI run 81)."""
 
     def __init__(self, proc):
-        self.proc, self.lines = proc, []
-        threading.Thread(target=self._read, daemon=True).start()
+        self.proc, self._lines = proc, []
+        self.reader = threading.Thread(target=self._read, daemon=True)
+        self.reader.start()
 
     def _read(self):
         for line in self.proc.stdout:
-            self.lines.append((time.monotonic(), line.rstrip()))
+            self._lines.append((time.monotonic(), line.rstrip()))
+
+    @property
+    def lines(self):
+        """[(wall time, line)] so far: all of them once the process has ended."""
+        if self.proc.poll() is not None:
+            self.reader.join(30.0)
+        return list(self._lines)
 
     def first(self, pattern, after=0.0):
-        for when, line in list(self.lines):
+        for when, line in self.lines:
             if when >= after and re.search(pattern, line):
                 return when, line
         return None
