@@ -1,4 +1,5 @@
 """A free TCP port for a test's own roscore (imported, not a node)."""
+import os
 import socket
 
 import pytest
@@ -6,13 +7,19 @@ import pytest
 
 def free_port(ports):
     """The first port of ``ports`` nothing listens on; the test is skipped
-    when every one is taken. Each test file has a range of its own, so
-    tests running side by side do not race for one port."""
-    for port in ports:
+    when every one is taken. Each test file has a range of its own, and
+    each pytest-xdist worker takes every n-th port of it (n workers), so
+    tests running side by side never race for one port: two tests of one
+    file in two workers both found the first port free before either
+    roscore had bound it, and one test met the other's master."""
+    worker = os.environ.get('PYTEST_XDIST_WORKER', 'gw0')
+    count = int(os.environ.get('PYTEST_XDIST_WORKER_COUNT', '1'))
+    mine = ports[int(worker[len('gw'):]) % count::count]
+    for port in mine:
         with socket.socket() as s:
             try:
                 s.bind(('', port))
             except OSError:
                 continue
             return port
-    pytest.skip('no free port in %d-%d' % (ports[0], ports[-1]))
+    pytest.skip('no free port among %s' % list(mine))

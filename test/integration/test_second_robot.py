@@ -42,9 +42,11 @@ class Graph(object):
                         ROS_LOG_DIR=str(tmp_path), PYTHONUNBUFFERED='1')
         self.procs = []
         self.tmp = tmp_path
-        self.start(['roscore', '-p', str(port)], 'roscore')
+        roscore = self.start(['roscore', '-p', str(port)], 'roscore')
         self.wait_for(lambda: self.run(['rosparam', 'get', '/run_id']).returncode == 0,
                       'roscore')
+        # The master that answered must be this test's own.
+        assert roscore.poll() is None, self.output('roscore')
 
     def start(self, cmd, log):
         out = open(str(self.tmp / (log + '.log')), 'w')
