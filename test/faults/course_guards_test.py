@@ -7,11 +7,7 @@ full speed with the fake robot; ``~case`` picks the fault:
 
 * ``driver``: another node (this test) publishes zeros on the course's
   cmd_vel from before it starts (a warning only: the course drives on),
-  then, once the robot is under way, one command to move. It does so as
-  a lockstep member, at ticks of its own, as a teleop node would at
-  10 Hz: time waits for it, so the course cannot end before it has
-  looked (at full speed a course takes half a wall second, less than
-  this node may wait for the CPU on a loaded machine);
+  then, once the robot is under way, one command to move;
 * ``two_publishers``: a second fake robot in namespace robot1 with the
   same frames on /tf (the .test starts both); the course in robot1
   follows a transform that two nodes publish, and each fake robot names
@@ -22,6 +18,12 @@ full speed with the fake robot; ``~case`` picks the fault:
   the same typo left on the master only warns (the course runs); the
   .test also launches a node with the typo as a ``<param>``, which
   refuses too.
+
+In driver, two_publishers and jump this test is a lockstep member, with
+ticks of its own as a teleop node's at 10 Hz (``hold_ticks``): time waits
+for it, so the course cannot end before the test has heard it and looked
+(at full speed a course takes half a wall second, less than this node may
+wait for the CPU on a loaded machine).
 """
 import os
 import re
@@ -52,7 +54,12 @@ class Commands(object):
     def __init__(self, topic):
         self.lock = threading.Lock()
         self.heard = []  # (sender, Twist)
+        self.topic = rospy.resolve_name(topic)
         rospy.Subscriber(topic, Twist, self._on_cmd, queue_size=1000)
+
+    def hears(self, node):
+        """True once this subscriber is connected to ``node``."""
+        return node in lockstep.connected_publishers(self.topic)
 
     def _on_cmd(self, msg):
         with self.lock:
@@ -87,6 +94,34 @@ class CourseGuardsTest(unittest.TestCase):
         self.assertEqual(len(lines), 1, course.output)
         return re.sub(r'^\[\w+\] \[[^]]*\]: ', '', lines[0])
 
+    def course_in_lockstep(self, member, course_args):
+        """A course started with this test a lockstep member (joined
+        first, so time waits for it from the course's start)."""
+        rospy.on_shutdown(member.leave)
+        member.join(30.0)
+        return CourseProcess(**course_args)
+
+    def hold_ticks(self, member, course, commands, watch, at_tick):
+        """This test's ticks as a lockstep member, at multiples of ALIGN
+        (0.1 s, where the simulator has a step), as a teleop node's at
+        10 Hz: time waits for it, so a course at full speed (half a wall
+        second) cannot end before the test has looked. First it waits
+        until ``commands`` is connected to the course (or the course has
+        ended), to hear the course's last command; at each tick it awaits
+        the simulator's ground truth at the tick, as a course awaits its
+        transform, then calls ``at_tick()``, until that returns True or
+        the course has ended."""
+        self.assertTrue(wait_until(lambda: commands.hears(course.node_name)
+                                   or not course.running(), 30.0),
+                        'no connection to the course on %s' % commands.topic)
+        for _, tick, _ in member.grants(rospy.get_name()):
+            if tick % ALIGN == 0:
+                self.assertTrue(wait_until(lambda: to_ns(
+                    watch.truth.header.stamp) >= tick), 'no ground truth at the tick')
+                if not course.running() or at_tick():
+                    return
+            member.report(tick, aligned(tick + 1))
+
     def test_guard(self):
         getattr(self, 'check_' + rospy.get_param('~case'))()
 
@@ -97,26 +132,18 @@ class CourseGuardsTest(unittest.TestCase):
         commands = Commands('cmd_vel')
         start = watch.wait_for_truth()
         member = lockstep.Member()
-        rospy.on_shutdown(member.leave)
         intruder = member.publisher(rospy.resolve_name('cmd_vel'), Twist)
         member.wait_for_inputs(30.0, me)  # the robot hears it before it joins
-        member.join(30.0)
-        course = CourseProcess(params=SHORT)
-        moved = False
+        course = self.course_in_lockstep(member, dict(params=SHORT))
         try:
-            # Ticks at multiples of ALIGN (0.1 s), where the simulator has
-            # a step: its ground truth at the tick is awaited, as a
-            # course awaits its transform.
-            for _, tick, _ in member.grants(me):
-                if tick % ALIGN == 0:
-                    self.assertTrue(wait_until(lambda: to_ns(
-                        watch.truth.header.stamp) >= tick), 'no ground truth at the tick')
-                    moved = watch.moved_since(start) > 0.1
-                if moved or not course.running():
-                    break
+            def at_tick():
+                if watch.moved_since(start) > 0.1:
+                    return True
                 intruder.publish(Twist())  # a teleop node at rest: zeros
-                member.report(tick, aligned(tick + 1))
-            self.assertTrue(moved, 'the course ended before the robot moved 0.1 m:\n'
+                return False
+            self.hold_ticks(member, course, commands, watch, at_tick)
+            self.assertTrue(watch.moved_since(start) > 0.1,
+                            'the course ended before the robot moved 0.1 m:\n'
                             + course.output)
             self.assertTrue(course.running(), 'zeros ended the course:\n'
                             + course.output)
@@ -147,10 +174,14 @@ class CourseGuardsTest(unittest.TestCase):
         watch = RobotWatch('robot1')
         commands = Commands('robot1/cmd_vel')
         watch.wait_for_truth()
-        course = CourseProcess(ns='robot1', params=SHORT)
+        member = lockstep.Member()
+        course = self.course_in_lockstep(member, dict(ns='robot1', params=SHORT))
         try:
+            self.hold_ticks(member, course, commands, watch, lambda: False)
+            member.leave()
             status = course.wait()
         finally:
+            member.leave()
             course.cleanup()
         out = course.output
         line = self.one_error_line(course, 'comes from two nodes')
@@ -190,14 +221,17 @@ class CourseGuardsTest(unittest.TestCase):
 
         rospy.Subscriber('odom', Odometry, relay, queue_size=100)
         start = watch.wait_for_truth()
-        course = CourseProcess(params=SHORT)
+        member = lockstep.Member()
+        course = self.course_in_lockstep(member, dict(params=SHORT))
         try:
-            self.assertTrue(wait_until(lambda: watch.moved_since(start) > 0.1
-                                       or not course.running()), course.output)
+            self.hold_ticks(member, course, commands, watch,
+                            lambda: watch.moved_since(start) > 0.1)
             self.assertTrue(course.running(), course.output)
             offset[0] = 3.0
+            member.leave()
             status = course.wait()
         finally:
+            member.leave()
             course.cleanup()
         out = course.output
         line = self.one_error_line(course, 'faster than the robot can')
