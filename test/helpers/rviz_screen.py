@@ -21,9 +21,11 @@ BACKGROUND = (48, 48, 48)  # the configs' 3D view background
 #: What RViz needs beside DISPLAY on a virtual screen. Software GL:
 #: RViz 1.14.19 with Mesa 22.3's llvmpipe corrupts its heap now and then
 #: in its first frames (SIGSEGV or "free(): invalid next size" under
-#: glXSwapBuffers; 6 of 30 starts beside a CPU burner, whatever the
-#: displays, llvmpipe's threads or MIT-SHM); Mesa's softpipe, which
-#: needs no LLVM, crashed in 1 of 30 beside it. The cause is not found.
+#: glXSwapBuffers): 9 of 59 starts beside a CPU burner, and as often
+#: without the config's panels, its RobotModel or its Odometry displays,
+#: with llvmpipe single-threaded, 128-bit vectors or without MIT-SHM.
+#: Mesa's softpipe, which needs no LLVM, crashed in 1 of 58 beside it.
+#: The cause, inside RViz or Mesa, is not found.
 RVIZ_ENV = {'LIBGL_ALWAYS_SOFTWARE': '1', 'GALLIUM_DRIVER': 'softpipe', 'QT_X11_NO_MITSHM': '1'}
 
 
