@@ -123,7 +123,7 @@ def echoed_rows(lines):
     """The rows (floats) of a ``rostopic echo -p .../pose/pose`` stream so
     far: x, y, z and the orientation's x, y, z, w."""
     rows = []
-    for _, line in list(lines.lines):
+    for _, line in lines.lines:
         fields = line.split(',')
         if len(fields) >= 8 and fields[0].isdigit():
             rows.append([float(f) for f in fields[1:8]])
@@ -348,7 +348,7 @@ def start_fleet(hosts, robots):
                         'helpers', 'truth_echo.py')
     truth = Lines(hosts.run('robot', [sys.executable, echo] + robots, **pipe))
     deadline = time.monotonic() + 30
-    while {line.split()[0] for _, line in list(truth.lines)} != set(robots):
+    while {line.split()[0] for _, line in truth.lines} != set(robots):
         assert time.monotonic() < deadline, 'no ground truth of every robot:\n' + truth.text()
         time.sleep(0.05)
     return truth
@@ -358,7 +358,7 @@ def longest_motion(truth, robot, begin, end, gap=0.1):
     """The longest spell (s, wall) in which ``robot``'s ground truth kept
     changing between wall times ``begin`` and ``end``: changes less than
     ``gap`` s apart (the echo prints each change of a 50 Hz stream)."""
-    times = [at for at, line in list(truth.lines)
+    times = [at for at, line in truth.lines
              if begin <= at <= end and line.split()[0] == robot]
     longest, start = 0.0, None
     for a, b in zip([None] + times, times):
@@ -371,7 +371,7 @@ def truth_rows(truth, robot):
     """``robot``'s ground truth from a start_fleet recorder: (wall time, x,
     y, yaw rad) at each change, oldest first."""
     rows = []
-    for at, line in list(truth.lines):
+    for at, line in truth.lines:
         fields = line.split()
         if len(fields) == 4 and fields[0] == robot:
             rows.append((at,) + tuple(float(f) for f in fields[1:]))
@@ -455,7 +455,7 @@ def test_twenty_percent_loss_precise_courses_ride_it_out(hosts):
     time.sleep(CMD_TIMEOUT + 0.5)  # the robots' watchdogs, then the echo
     ended = time.monotonic()
     time.sleep(1.0)
-    moving = sorted({line.split()[0] for at, line in list(truth.lines) if at >= ended})
+    moving = sorted({line.split()[0] for at, line in truth.lines if at >= ended})
     for r in results:
         rows = truth_rows(truth, r['robot'])
         start, end = rows[0][1:], rows[-1][1:]
