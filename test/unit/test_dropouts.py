@@ -87,3 +87,22 @@ def test_a_held_course_records_the_stop_and_goes_on_from_the_new_pose():
     assert course.update(Pose2D(0.5, 0.0, 0.0), 1.0).linear == pytest.approx(0.2)
     course.update(Pose2D(1.0, 0.0, 0.0), 1.1)
     assert course.done
+
+
+def test_a_transform_arriving_but_stamped_long_ago_is_held():
+    """A link that holds messages back delivers them late: the age counts
+    from the stamp when that is earlier than the arrival."""
+    d = Dropouts(timeout=1.0, grace=0.5)
+    assert d.tick(5.0, fresh_at=5.0, stamp=4.1).state == FRESH  # 0.9 s old
+    held = d.tick(5.1, fresh_at=5.1, stamp=4.05)  # a late one: 1.05 s old
+    assert held.state == HOLD and held.began and held.stale == pytest.approx(1.05)
+    back = d.tick(5.2, fresh_at=5.2, stamp=5.15)
+    assert back.state == FRESH and back.ended == pytest.approx(5.2 - 4.05)
+    assert d.tick(7.0, fresh_at=7.0, stamp=5.4).state == LOST  # 1.6 s > 1.0 + 0.5
+
+
+def test_a_stamp_later_than_the_arrival_counts_from_the_arrival():
+    """A robot's clock ahead of this one's stamps the future: the arrival
+    still counts (the link cut shows as before)."""
+    d = Dropouts(timeout=1.0, grace=0.5)
+    assert d.tick(5.0, fresh_at=3.9, stamp=4.5).state == HOLD  # not updated 1.1 s

@@ -1,8 +1,9 @@
 """Riding out a link that drops out: Wi-Fi between a workstation and its robot.
 
 A course steers by the robot's transform. When that stops updating for
-``timeout`` seconds (~tf_timeout) the link has dropped out, or the driver
-is gone. :class:`Dropouts` tells the control loop what to do on each tick:
+``timeout`` seconds (~tf_timeout), or what arrives is stamped that long
+ago (a link holding messages back), the link has dropped out, or the
+driver is gone. :class:`Dropouts` tells the control loop what to do on each tick:
 
 * FRESH: steer as usual;
 * HOLD: the transform is stale: command zero (the robot's own watchdog
@@ -37,8 +38,12 @@ class Dropouts(object):
         self.seconds = 0.0  # their length in all
         self._since = None  # when the transform was last fresh, in a dropout
 
-    def tick(self, now, fresh_at):
-        """The state at ``now``, the transform last updated at ``fresh_at``."""
+    def tick(self, now, fresh_at, stamp=None):
+        """The state at ``now``, the transform last updated at ``fresh_at``,
+        its newest ``stamp`` (if known) no later: its age is from the
+        earlier of the two."""
+        if stamp is not None:
+            fresh_at = min(fresh_at, stamp)
         stale = now - fresh_at
         if stale <= self.timeout:
             ended = None

@@ -15,7 +15,8 @@ the summary line (summary).
 
 Safety, for every node that uses it: a zero Twist goes out on every exit
 path (success, Ctrl-C, ``rosnode kill``, any exception). When the
-transform stops updating for ``~tf_timeout`` the robot is commanded zero
+transform stops updating for ``~tf_timeout``, or what arrives is stamped
+that long ago, the robot is commanded zero
 and the course waits up to ``~link_grace`` more for it (a Wi-Fi dropout,
 rbx1_nav.motion.dropouts), then carries on from the pose tf gives; past that, or
 when ``/clock`` stops under simulated time, it aborts, robot stopped.
@@ -291,12 +292,12 @@ class MotionRunner(object):
                 # A stale transform is held as in the course (CourseAborted
                 # past ~link_grace); the wait counts odometry's stamps.
                 sent = delivered(self.cmd_vel.unacknowledged(), stops, message_bytes)
-                if (not self.dropouts.held(now, fresh_at) and fresh
+                if (not self.dropouts.held(now, fresh_at, last_stamp) and fresh
                         and settle.update(pose, (last_stamp - start).to_sec(),
                                           sent) != WAITING):
                     break
                 continue
-            if not blind and self.dropouts.held(now, fresh_at):
+            if not blind and self.dropouts.held(now, fresh_at, last_stamp):
                 self.publish(course.hold(t))
                 continue
             if pose is None:  # found a moment ago; lookups may lag a cycle

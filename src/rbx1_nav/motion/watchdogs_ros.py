@@ -179,28 +179,36 @@ class DropoutHold(object):
         self.stop = stop
         self.dropouts = Dropouts(timeout, grace)
 
-    def held(self, now, fresh_at):
+    def held(self, now, fresh_at, stamp=None):
         """True while the robot is to be held (commanded zero) at ``now``,
-        the transform fresh last at ``fresh_at`` (rospy.Time);
-        CourseAborted past ~link_grace."""
-        tick = self.dropouts.tick(now.to_sec(), fresh_at.to_sec())
-        where = self.where
+        the transform fresh last at ``fresh_at``, its newest ``stamp``
+        (rospy.Time; None before the first); CourseAborted past
+        ~link_grace."""
+        tick = self.dropouts.tick(now.to_sec(), fresh_at.to_sec(),
+                                  None if stamp is None else stamp.to_sec())
         if tick.state == LOST:
             self.stop()
             raise CourseAborted(
-                '%s has not been updated for %.2f s (limit ~tf_timeout %.2f s '
-                '+ ~link_grace %.2f s): robot driver or simulator gone, or the '
-                'link to the robot down? Stopped the robot.' % (
-                    where, tick.stale, self.dropouts.timeout, self.dropouts.grace))
+                '%s (limit ~tf_timeout %.2f s + ~link_grace %.2f s): robot driver or '
+                'simulator gone, or the link to the robot down? Stopped the robot.' % (
+                    self._stale(now, fresh_at, tick), self.dropouts.timeout,
+                    self.dropouts.grace))
         if tick.began:
-            rospy.logwarn('%s: %s has not been updated for %.2f s (~tf_timeout): '
-                          'a link dropout? Holding the robot (zero velocity) and '
-                          'waiting up to ~link_grace %.1f s for it', self.name,
-                          where, tick.stale, self.dropouts.grace)
+            rospy.logwarn('%s: %s (~tf_timeout): a link dropout? Holding the robot '
+                          '(zero velocity) and waiting up to ~link_grace %.1f s for it',
+                          self.name, self._stale(now, fresh_at, tick), self.dropouts.grace)
         elif tick.ended is not None:
             rospy.loginfo('%s: %s is back after %.2f s; carrying on from where '
-                          'it says the robot is', self.name, where, tick.ended)
+                          'it says the robot is', self.name, self.where, tick.ended)
         return tick.state == HOLD
+
+    def _stale(self, now, fresh_at, tick):
+        """How the transform is stale: not updated, or stamped long ago."""
+        if fresh_at == now:  # it came this tick, stamped long ago
+            return ('%s is %.2f s old by its stamp though still arriving (a link '
+                    'holding messages back, or the robot\'s clock behind this '
+                    'one\'s?)' % (self.where, tick.stale))
+        return '%s has not been updated for %.2f s' % (self.where, tick.stale)
 
     def summary(self):
         """The dropouts ridden out, for the summary line."""
