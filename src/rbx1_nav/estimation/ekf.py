@@ -86,8 +86,13 @@ def floored(cov):
     """Symmetric copy of ``cov`` with every variance at least MIN_VARIANCE."""
     cov = np.array(cov, dtype=float, ndmin=2)
     cov = 0.5 * cov + 0.5 * cov.T  # halve first: cov + cov.T may overflow
-    diag = np.diag(cov)
-    return cov + np.diag(np.maximum(MIN_VARIANCE - diag, 0.0))
+    # As cov + diag(max(MIN_VARIANCE - diag, 0)), in Python floats (the
+    # same doubles): a few per call, and this runs for every reading.
+    for i, variance in enumerate(cov.diagonal().tolist()):
+        lift = MIN_VARIANCE - variance
+        if lift > 0.0:
+            cov[i, i] = variance + lift
+    return cov
 
 
 class PlanarEkf(object):

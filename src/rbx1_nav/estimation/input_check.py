@@ -173,18 +173,21 @@ def _value_problem(position, angles, covariance):
                         'origin' % (_vector_text(position), MAX_POSITION))
     if covariance is None:
         return None
+    # As Python floats: a few per reading, each reading checked.
     cov = np.array(covariance, dtype=float, ndmin=2)
-    if not np.all(np.isfinite(cov)):
-        bad = cov[~np.isfinite(cov)][0]
-        return NOT_FINITE, 'covariance has a NaN or infinite entry (%r)' % bad
-    diag = np.diag(cov)
-    if np.any(diag < 0.0):
-        i = int(np.argmin(diag))
+    values = cov.ravel().tolist()
+    for value in values:
+        if not math.isfinite(value):
+            return NOT_FINITE, 'covariance has a NaN or infinite entry (%r)' % value
+    diag = cov.diagonal().tolist()
+    if diag and min(diag) < 0.0:
+        i = diag.index(min(diag))
         return NEGATIVE_VARIANCE, ('covariance has a negative variance %g '
                                    '(diagonal entry %d)' % (diag[i], i))
-    if np.any(np.abs(cov) > MAX_VARIANCE):
+    largest = max(map(abs, values), default=0.0)
+    if largest > MAX_VARIANCE:
         return ABSURD, ('covariance has an absurd entry %g (above %g)'
-                        % (np.max(np.abs(cov)), MAX_VARIANCE))
+                        % (largest, MAX_VARIANCE))
     return None
 
 

@@ -47,13 +47,15 @@ def unmeasured_components(cov):
     :data:`UNMEASURED_VARIANCE`, exactly -1, or +infinity); ``cleaned`` is
     ``cov`` with those rows and columns zeroed, ready for the input check.
     """
-    cov = np.array(cov, dtype=float, ndmin=2)
-    diag = np.diag(cov)
-    with np.errstate(invalid='ignore'):
-        mask = (diag >= UNMEASURED_VARIANCE) | (diag == -1.0)
-    cleaned = cov.copy()
-    cleaned[mask, :] = 0.0
-    cleaned[:, mask] = 0.0
+    cleaned = np.array(cov, dtype=float, ndmin=2)  # a copy
+    # Compared as Python floats: a NaN variance is "measured" (and refused
+    # later), without numpy's warning. A few floats per message, so no
+    # numpy call is spared: this runs for every reading.
+    flags = [v >= UNMEASURED_VARIANCE or v == -1.0 for v in cleaned.diagonal().tolist()]
+    mask = np.array(flags, dtype=bool)
+    if any(flags):
+        cleaned[mask, :] = 0.0
+        cleaned[:, mask] = 0.0
     return cleaned, mask
 
 

@@ -61,8 +61,10 @@ class InFlight(object):
         """``pose``, read at ``now`` and ``age`` s old, moved on by the
         commands in flight."""
         start = now - age - self.delay
-        ends = [t for t, _ in self.sent[1:]] + [now]
-        for (sent, command), end in zip(self.sent, ends):
+        # From the command running at ``start``: the earlier ones ended before.
+        first = max(bisect.bisect_right(self.times, start) - 1, 0)
+        ends = self.times[first + 1:] + [now]
+        for (sent, command), end in zip(self.sent[first:], ends):
             seconds = min(end, now) - max(sent, start)
             if seconds > 0.0:
                 pose = arc_step(pose, command.linear * seconds,
