@@ -72,8 +72,9 @@ class TfFollower(object):
         self.simulator = None
         self.counted = None
         # Lockstep: (sender, child frame) -> the newest stamp (ns) a grant
-        # counted of it.
+        # counted of it; child frame -> the newest stamp (ns) heard.
         self.seen = {}
+        self.heard = {}
 
     def _on_tf(self, msg):
         """Feed each update of the followed transform to ``guard`` (while a
@@ -90,10 +91,11 @@ class TfFollower(object):
                             quat_to_angle(t.transform.rotation))
         if self.member is None:
             return
-        frames = {}
+        frames, heard = {}, self.heard
         for t in msg.transforms:
             child = t.child_frame_id.lstrip('/')
             frames[child] = max(to_ns(t.header.stamp), frames.get(child, 0))
+            heard[child] = max(frames[child], heard.get(child, 0))
         self.member.arrived(self.tf_topic, msg, (sender(msg), frames))
 
     def find_base_frame(self, wait, require_tf, ticks=None):
@@ -221,7 +223,11 @@ class TfFollower(object):
                 tick = to_ns(now)
                 topic = self.listener.tf_sub.resolved_name
                 stalled = time.monotonic() + lockstep.STALLED
-                while not (self.listener.wait(lambda: self._stamp() >= tick, lockstep.POLL)
+                # The lookup only once the followed transform itself has
+                # come that far (a message on /tf wakes this each time).
+                def there():
+                    return self.heard.get(self.followed, 0) >= tick and self._stamp() >= tick
+                while not (self.listener.wait(there, lockstep.POLL)
                            or self.simulator not in lockstep.connected_publishers(topic)
                            or time.monotonic() > stalled or rospy.is_shutdown()):
                     pass

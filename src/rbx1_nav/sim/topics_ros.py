@@ -67,13 +67,16 @@ def make_fleet(values, size, log_name):
 
 
 def fill_odometry(msg, stamp, frame_id, child, pose, velocity):
-    """Set header, planar pose and body twist of a nav_msgs/Odometry."""
+    """Set header, planar pose and body twist of a nav_msgs/Odometry (a new
+    one, or one published before: rospy serializes a message as it is
+    published, so the simulator fills the same ones each step)."""
     msg.header.stamp = stamp
     msg.header.frame_id = frame_id
     msg.child_frame_id = child
     msg.pose.pose.position.x = pose.x
     msg.pose.pose.position.y = pose.y
-    msg.pose.pose.orientation = Quaternion(*yaw_to_quaternion(pose.yaw))
+    q = msg.pose.pose.orientation
+    q.x, q.y, q.z, q.w = yaw_to_quaternion(pose.yaw)
     msg.twist.twist.linear.x, msg.twist.twist.angular.z = velocity
     return msg
 
@@ -118,6 +121,12 @@ class RobotTopics:
         self.joints = [values['left_wheel_joint'], values['right_wheel_joint']]
         self.pose_cov = covariance_from_diagonal(values['pose_covariance_diagonal'])
         self.twist_cov = covariance_from_diagonal(values['twist_covariance_diagonal'])
+        # The messages of each step, filled anew each time (fill_odometry).
+        self.odom_msg = Odometry()
+        self.odom_msg.pose.covariance = self.pose_cov
+        self.odom_msg.twist.covariance = self.twist_cov
+        self.truth_msg = Odometry()
+        self.tf_msg = TFMessage([TransformStamped()])
         self.was_timed_out = True
         self.stopped_at = None  # when the watchdog last stopped the base
         self.throttle = Throttle(WARN_PERIOD)
@@ -240,7 +249,7 @@ class RobotTopics:
             self.joint_pub.publish(joints)
 
         if self.truth_pub.get_num_connections():
-            self.truth_pub.publish(fill_odometry(Odometry(), stamp, self.truth_frame,
+            self.truth_pub.publish(fill_odometry(self.truth_msg, stamp, self.truth_frame,
                                                  self.base_frame, robot.truth,
                                                  robot.velocity))
         if self.imu_pub and self.imu_pub.get_num_connections():
@@ -252,20 +261,18 @@ class RobotTopics:
         """odom and its tf."""
         robot = self.robot
         odom_pose = robot.odom
-        odom = fill_odometry(Odometry(), stamp, self.odom_frame, self.base_frame,
+        odom = fill_odometry(self.odom_msg, stamp, self.odom_frame, self.base_frame,
                              odom_pose, robot.odom_velocity)
-        odom.pose.covariance = self.pose_cov
-        odom.twist.covariance = self.twist_cov
         self.send_sensor(self.odom_pub, odom)
 
         if self.tf_pub:
-            tf = TransformStamped()
+            tf = self.tf_msg.transforms[0]
             tf.header = odom.header
             tf.child_frame_id = self.base_frame
             tf.transform.translation.x = odom_pose.x
             tf.transform.translation.y = odom_pose.y
             tf.transform.rotation = odom.pose.pose.orientation
-            self.send_sensor(self.tf_pub, TFMessage([tf]))  # counted: a course
+            self.send_sensor(self.tf_pub, self.tf_msg)  # counted: a course
             # starting under lockstep finds it at the same tick every run
 
     def publish_gps_fix(self, stamp):
