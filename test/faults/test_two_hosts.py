@@ -294,7 +294,9 @@ def test_precise_mode_over_a_200ms_link_ends_at_its_start_and_names_the_age(host
           '%+.3f deg from the start (limits %g mm, %g deg)' % (
               status, ages, corrections, dist, yaw, PRECISE_END_MM, PRECISE_END_DEG))
     assert status == 0, course.text()
-    # Over 0.4 s when TCP holds a burst back (seen: 0.78 s); under ~tf_timeout.
+    # Over 0.4 s when TCP holds a burst back (seen: 0.78 s); under ~tf_timeout:
+    # one stamped longer ago is held, not steered by (before the course held
+    # on the stamp, one 1.09 s old was used).
     assert ages and all(0.15 < age < TF_TIMEOUT for age in ages), course.text()
     assert dist < PRECISE_END_MM and abs(yaw) < PRECISE_END_DEG, course.text()
 
