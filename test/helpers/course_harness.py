@@ -169,7 +169,9 @@ class CourseProcess(object):
         if ns:
             args.append('__ns:=' + ns)
         for key, value in sorted((params or {}).items()):
-            args.append('_%s:=%s' % (key, value))
+            # rospy reads each value as YAML: an empty one would be null
+            # (the parameter's default), not the empty string.
+            args.append('_%s:=%s' % (key, "''" if value == '' else value))
         args.extend('%s:=%s' % pair for pair in sorted((remaps or {}).items()))
         self.args = args
         if self.node_name == rospy.get_name():
