@@ -3,7 +3,8 @@
 A course steers by the robot's transform. When that stops updating for
 ``timeout`` seconds (~tf_timeout), or what arrives is stamped that long
 ago (a link holding messages back), the link has dropped out, or the
-driver is gone. :class:`Dropouts` tells the control loop what to do on each tick:
+driver is gone. :class:`Dropouts` tells the control loop what to do on
+each tick:
 
 * FRESH: steer as usual;
 * HOLD: the transform is stale: command zero (the robot's own watchdog

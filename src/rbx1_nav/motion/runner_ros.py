@@ -16,10 +16,10 @@ the summary line (summary).
 Safety, for every node that uses it: a zero Twist goes out on every exit
 path (success, Ctrl-C, ``rosnode kill``, any exception). When the
 transform stops updating for ``~tf_timeout``, or what arrives is stamped
-that long ago, the robot is commanded zero
-and the course waits up to ``~link_grace`` more for it (a Wi-Fi dropout,
-rbx1_nav.motion.dropouts), then carries on from the pose tf gives; past that, or
-when ``/clock`` stops under simulated time, it aborts, robot stopped.
+that long ago, the robot is commanded zero and the course waits up to
+``~link_grace`` more for it (a Wi-Fi dropout, rbx1_nav.motion.dropouts),
+then carries on from the pose tf gives; past that, or when ``/clock``
+stops under simulated time, it aborts, robot stopped.
 It aborts too, robot stopped, when another node commands motion on its
 cmd_vel while it drives (rbx1_nav.common.cmd_vel_watch.OtherDriver), or when
 its transform comes from two nodes or jumps further than the robot can

@@ -223,6 +223,7 @@ class TfFollower(object):
                 tick = to_ns(now)
                 topic = self.listener.tf_sub.resolved_name
                 stalled = time.monotonic() + lockstep.STALLED
+
                 # The lookup only once the followed transform itself has
                 # come that far (a message on /tf wakes this each time).
                 def there():
