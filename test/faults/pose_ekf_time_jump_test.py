@@ -13,6 +13,7 @@ import os
 import re
 import subprocess
 import sys
+import tempfile
 import threading
 import unittest
 
@@ -79,10 +80,12 @@ class TimeJumpTest(unittest.TestCase):
         # members have joined it, the simulator and pose_ekf (odom_ekf only
         # republishes): with the default, the simulator alone, time ran
         # 3.4 s on before pose_ekf had rejoined, beside two CPU burners.
+        # Its output (who joined it, and when) goes into a failure's message.
+        clock_log = tempfile.TemporaryFile(mode='w+')
         clock = subprocess.Popen(
             ['rosrun', 'rbx1_nav', 'sim_clock.py', '__name:=sim_clock',
              '_speed:=%g' % speed, '_start_time:=%.3f' % back_to, '_members:=2'],
-            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            stdout=clock_log, stderr=subprocess.STDOUT, universal_newlines=True)
         try:
             # Wait a simulated second past the allowance, so a late restart
             # shows as a late first stamp rather than as no stamp at all.
@@ -94,6 +97,9 @@ class TimeJumpTest(unittest.TestCase):
         finally:
             clock.terminate()
             clock.wait()
+            clock_log.seek(0)
+            said = 'the restarted sim_clock said:\n' + clock_log.read()[-3000:]
+            clock_log.close()
         fused_new = fused.after_jump(marks[0], new_clock)
         odom_new = odom.after_jump(marks[1], new_clock)
         ekf_line = log.find(ekf_node, 'ROS time moved backwards by')
@@ -111,10 +117,10 @@ class TimeJumpTest(unittest.TestCase):
                   fused_new[0] - back_to if fused_new else float('nan'),
                   odom_new[0] - back_to if odom_new else float('nan'))
                  + tuple(found.group(1) if found else 'none' for found in jumps)))
-        self.assertTrue(fused_new, 'pose_ekf published nothing on the new clock')
-        self.assertLessEqual(fused_new[0] - back_to, within)
-        self.assertTrue(odom_new, 'odom_ekf republished nothing on the new clock')
-        self.assertLessEqual(odom_new[0] - back_to, within)
+        self.assertTrue(fused_new, 'pose_ekf published nothing on the new clock; ' + said)
+        self.assertLessEqual(fused_new[0] - back_to, within, said)
+        self.assertTrue(odom_new, 'odom_ekf republished nothing on the new clock; ' + said)
+        self.assertLessEqual(odom_new[0] - back_to, within, said)
         for name, stamps in (('odom_combined', fused_new), ('odom_ekf', odom_new)):
             self.assertTrue(all(b > a for a, b in zip(stamps, stamps[1:])),
                             '%s went back in time on the new clock' % name)
