@@ -85,7 +85,7 @@ class TimeJumpTest(unittest.TestCase):
         clock = subprocess.Popen(
             ['rosrun', 'rbx1_nav', 'sim_clock.py', '__name:=sim_clock',
              '_speed:=%g' % speed, '_start_time:=%.3f' % back_to, '_members:=2'],
-            stdout=clock_log, stderr=subprocess.STDOUT, universal_newlines=True)
+            stdout=clock_log, stderr=subprocess.STDOUT)
         try:
             # Wait a simulated second past the allowance, so a late restart
             # shows as a late first stamp rather than as no stamp at all.

@@ -126,7 +126,10 @@ class RobotTopics:
         self.odom_msg.pose.covariance = self.pose_cov
         self.odom_msg.twist.covariance = self.twist_cov
         self.truth_msg = Odometry()
-        self.tf_msg = TFMessage([TransformStamped()])
+        # odom's transform shares its header and orientation objects.
+        tf = TransformStamped(header=self.odom_msg.header, child_frame_id=self.base_frame)
+        tf.transform.rotation = self.odom_msg.pose.pose.orientation
+        self.tf_msg = TFMessage([tf])
         self.was_timed_out = True
         self.stopped_at = None  # when the watchdog last stopped the base
         self.throttle = Throttle(WARN_PERIOD)
@@ -266,12 +269,8 @@ class RobotTopics:
         self.send_sensor(self.odom_pub, odom)
 
         if self.tf_pub:
-            tf = self.tf_msg.transforms[0]
-            tf.header = odom.header
-            tf.child_frame_id = self.base_frame
-            tf.transform.translation.x = odom_pose.x
-            tf.transform.translation.y = odom_pose.y
-            tf.transform.rotation = odom.pose.pose.orientation
+            translation = self.tf_msg.transforms[0].transform.translation
+            translation.x, translation.y = odom_pose.x, odom_pose.y
             self.send_sensor(self.tf_pub, self.tf_msg)  # counted: a course
             # starting under lockstep finds it at the same tick every run
 
