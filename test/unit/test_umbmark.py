@@ -11,7 +11,8 @@ from rbx1_nav.calibration.umbmark import (FALSE_ALARM, analyse, check_errors, co
                                           compare_text, critical, evaluate, load,
                                           parse_position, plot, relative, report,
                                           rerun_text, results_record, run_label,
-                                          runs_needed, save, square_course)
+                                          runs_needed, save, square_course,
+                                          square_return)
 from rbx1_nav.transform_utils import Pose2D, normalize_angle
 
 PRECISE = Approach(1.0, 4.0, 0.005, 0.01)
@@ -78,12 +79,26 @@ def umbmark(robot, runs=5, side=1.0):
 
 
 @pytest.mark.parametrize('ed, eb', [(1.005, 1.02), (1.0, 1.0), (0.99, 0.97),
-                                    (1.01, 1.0), (1.0, 1.03)])
+                                    (1.01, 1.0), (1.0, 1.03), (1.02, 1.0),
+                                    (1.027, 1.0), (0.973, 0.985)])
 def test_a_robot_with_known_ed_and_eb_gives_them_back(ed, eb):
     result = umbmark(UncalibratedRobot(ed, eb))
-    # First-order formulas: Ed - 1 within 5 % of itself, Eb within 0.2 %.
-    assert result.ed - 1.0 == pytest.approx(ed - 1.0, rel=0.05, abs=1e-5)
-    assert result.eb == pytest.approx(eb, rel=2e-3)
+    # The exact model fitted: Ed - 1 within 0.5 % of itself, Eb within
+    # 0.01 % (0.06 % and 0.002 % at worst here: the course ends each turn
+    # within its tolerance, not on the dot). The paper's first-order
+    # formulas alone put Eb 0.2 %, 0.4 % and 0.6 % off on the last three.
+    assert result.ed - 1.0 == pytest.approx(ed - 1.0, rel=5e-3, abs=1e-6)
+    assert result.eb == pytest.approx(eb, rel=1e-4)
+
+
+@pytest.mark.parametrize('ed, eb', [(1.02, 1.0), (0.973, 0.985), (1.005, 1.02)])
+def test_the_exact_model_is_what_the_first_order_formulas_approximate(ed, eb):
+    # Return positions from square_return itself give Ed and Eb back to
+    # rounding; the first-order start alone would not.
+    cw, ccw = (square_return(ed, eb, 1.0, B, clockwise) for clockwise in (True, False))
+    result = analyse([cw], [ccw], 1.0, B)
+    assert (result.ed, result.eb) == pytest.approx((ed, eb), rel=1e-9)
+    assert result.alpha == pytest.approx(math.pi / 2 * (1 - 1 / eb), rel=1e-6)
 
 
 def test_the_printed_multipliers_shrink_e_max_tenfold():

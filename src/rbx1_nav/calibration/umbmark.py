@@ -21,14 +21,23 @@ clusters are
     x_ccw =  2 L (beta - alpha)     y_ccw = -2 L (beta - alpha)
 
 so alpha = (x_cw + x_ccw) / (-4 L) and beta = (x_cw - x_ccw) / (-4 L), or
-from y, alpha = (y_cw - y_ccw) / (-4 L) and beta = (y_cw + y_ccw) / (-4 L).
-The second-order terms the paper drops push the x and the y figures
-apart in opposite directions (by several per cent of alpha and beta when
-both errors are present), so this module takes the mean of the two. Then
+from y, alpha = (y_cw - y_ccw) / (-4 L) and beta = (y_cw + y_ccw) / (-4 L)
+(the mean of the two is taken), and then
 
     R  = (L / 2) / sin(beta / 2)          the radius of the curved legs
     Ed = (R + b / 2) / (R - b / 2)        b: the wheel base
     Eb = (pi / 2) / (pi / 2 - alpha)
+
+That is only the first step here. The terms the paper drops grow with the
+square of the curve: wheels 2 % apart curve a 1 m side by 4 to 5 degrees
+(a 26 to 23 cm base), and on a 23 cm base the first-order Eb is then 0.2 %
+too large (0.4 % with wheels 2.7 % apart, 0.6 % with the base 1.5 % short
+as well), so a corrected robot turns 0.7 to 2 degrees wrong per full
+turn. So :func:`analyse` takes the
+first-order Ed and Eb as the start of a least-squares fit of the model the
+formulas approximate, computed exactly (:func:`square_return`: each side
+an arc, each turn in place about a point off the axle's centre when the
+wheels differ), to the two centres of gravity.
 
 The measure of the result is E_max,syst, the larger distance of the two
 centres of gravity from the origin. The corrections follow
@@ -79,7 +88,7 @@ from rbx1_nav.motion.steps import Drive, Pause, Turn
 
 __all__ = ['relative', 'square_course', 'check_errors', 'analyse',
            'analyse_runs', 'Result', 'Scatter', 'FALSE_ALARM', 'critical',
-           'runs_needed',
+           'runs_needed', 'square_return',
            'corrections', 'report', 'plot', 'run_label', 'parse_position',
            'evaluate', 'results_record', 'save', 'load', 'compare_text',
            'rerun_text']
@@ -187,8 +196,57 @@ def runs_needed(result, most=1000):
     return min(needed) if needed else None
 
 
+def square_return(ed, eb, side, wheel_separation, clockwise):
+    """(x, y) where a run ends, in its start's frame, when its odometry
+    (wheels of equal size, the base ``wheel_separation``) says it drove a
+    perfect square back to the start, on wheels whose diameters are ``ed``
+    to one (right to left, their mean right) and a base ``eb`` times the
+    assumed one: the paper's model without its approximations."""
+    left, right = 2.0 / (ed + 1.0), 2.0 * ed / (ed + 1.0)  # true / assumed size
+    base = eb * wheel_separation
+    turn = (-1.0 if clockwise else 1.0) * math.pi / 4.0 * wheel_separation
+    x = y = heading = 0.0
+    for _ in range(4):
+        # A side (odometry: both wheels roll ``side``), then a turn in
+        # place (odometry: the wheels roll -turn and +turn).
+        for wheel_left, wheel_right in ((side * left, side * right),
+                                        (-turn * left, turn * right)):
+            travel = 0.5 * (wheel_left + wheel_right)
+            change = (wheel_right - wheel_left) / base
+            chord = travel if change == 0.0 else 2.0 * travel / change * math.sin(change / 2.0)
+            x += chord * math.cos(heading + change / 2.0)
+            y += chord * math.sin(heading + change / 2.0)
+            heading += change
+    return x, y
+
+
+def _fit(ed, eb, cg_cw, cg_ccw, side, wheel_separation, steps=20):
+    """Ed and Eb of the exact model (:func:`square_return`) nearest, in
+    least squares, to the two centres of gravity, from (``ed``, ``eb``)
+    on by Gauss-Newton steps."""
+    measured = np.concatenate([cg_cw, cg_ccw])
+
+    def model(p):
+        return np.concatenate([square_return(p[0], p[1], side, wheel_separation, clockwise)
+                               for clockwise in (True, False)])
+
+    p = np.array([ed, eb])
+    for _ in range(steps):
+        now = model(p)
+        jacobian = np.column_stack([(model(p + d) - now) / 1e-7
+                                    for d in np.eye(2) * 1e-7])
+        step = np.linalg.lstsq(jacobian, measured - now, rcond=None)[0]
+        p = p + step
+        if not np.all(np.isfinite(p)):  # no fit: the first-order figures
+            return ed, eb
+        if np.max(np.abs(step)) < 1e-12:
+            break
+    return float(p[0]), float(p[1])
+
+
 def analyse(cw, ccw, side, wheel_separation):
-    """The paper's arithmetic on the return errors of both directions."""
+    """Ed and Eb from the return errors of both directions: the paper's
+    arithmetic, then the exact model fitted (the module's docstring)."""
     cw, ccw = np.asarray(cw, dtype=float), np.asarray(ccw, dtype=float)
     cg_cw, cg_ccw = cw.mean(axis=0), ccw.mean(axis=0)
     e_max = max(np.hypot(*cg_cw), np.hypot(*cg_ccw))
@@ -202,6 +260,10 @@ def analyse(cw, ccw, side, wheel_separation):
         half = wheel_separation / 2.0
         ed = (radius + half) / (radius - half)
     eb = (math.pi / 2.0) / (math.pi / 2.0 - alpha)
+    ed, eb = _fit(ed, eb, cg_cw, cg_ccw, side, wheel_separation)
+    # The turn error and the curve per side of the fitted robot.
+    alpha = math.pi / 2.0 * (1.0 - 1.0 / eb)
+    beta = 2.0 * side * (ed - 1.0) / (ed + 1.0) / (eb * wheel_separation)
     scatters = scatter(cw, cg_cw), scatter(ccw, cg_ccw)
     supported = any(spread.runs > 1 and spread.distance > critical(spread.runs)
                     for spread in scatters)
