@@ -325,8 +325,16 @@ def test_commands_cut_twice_the_summary_counts_both_watchdog_stops(hosts):
           'course exit %d, summary counts %s' % (CMD_TIMEOUT + 0.5, stops, status,
                                                  held.group(1) if held else None))
     assert status == 0, course.text()
-    assert len(stops) == 2 and all(stop > 0.2 for stop in stops), robot.text()
-    assert held and int(held.group(1)) == 2, course.text()
+    # Each cut stops the robot (about 1 s: its 0.5 s watchdog, then TCP's
+    # retransmission). A machine loaded many times over can hold the
+    # course's commands back for 0.5 s as well (a third stop of 0.32 s, CI
+    # beside a population bench): the summary must count every stop the
+    # robot logged that is long enough to see (0.2 s, twice Stalls'
+    # minimum spell), and none it did not log.
+    seen = [stop for stop in stops if stop > 0.2]
+    assert len(seen) >= 2, robot.text()
+    assert held and len(seen) <= int(held.group(1)) <= len(stops), (
+        'summary %s, watchdog stops %s\n%s' % (held and held.group(1), stops, course.text()))
 
 
 #: Precise courses at once at 20 % loss: each is held to the same checks,
