@@ -155,6 +155,18 @@ def test_report_names_every_figure_and_setting():
         assert word in text
 
 
+def test_runs_that_differ_by_rounding_are_reported_as_identical():
+    # A simulator without noise repeats its runs to the last few bits: no
+    # "standard deviation 0.0 mm ... 27204547326300.4 standard errors".
+    jitter = [[0.0, 0.0], [1e-15, -1e-15], [0.0, 2e-15]]
+    result = analyse(np.add([[-0.05, -0.05]] * 3, jitter),
+                     np.add([[0.01, -0.01]] * 3, jitter), 1.0, B)
+    line = next(line for line in report(result) if line.startswith('scatter'))
+    assert line == ('scatter: cw 3 runs, identical to 0.001 mm (no noise); '
+                    'ccw 3 runs, identical to 0.001 mm (no noise)')
+    assert result.supported
+
+
 def test_plot_writes_a_png(tmp_path):
     pytest.importorskip('matplotlib')
     before = analyse([[-0.05, -0.05]] * 3, [[0.01, -0.01]] * 3, 1.0, B)

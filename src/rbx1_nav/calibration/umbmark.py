@@ -95,6 +95,9 @@ __all__ = ['relative', 'square_course', 'check_errors', 'analyse',
 
 CW, CCW = 'cw', 'ccw'
 FALSE_ALARM = 0.05  # chance of a correction "supported" by noise alone
+#: Return positions scattered by less than this (m) are the same run
+#: repeated: a simulator without noise, rounding apart.
+IDENTICAL = 1e-6
 
 
 def relative(start, end):
@@ -173,10 +176,10 @@ def scatter(errors, cg):
     if n < 2:
         return Scatter(n, math.nan, math.nan, math.nan)
     sd = math.sqrt(float(np.sum((errors - cg) ** 2)) / (n - 1))
-    se = sd / math.sqrt(n)
     distance = math.hypot(*cg)
-    if se == 0.0:  # identical runs (a simulator without noise)
-        return Scatter(n, sd, se, math.inf if distance > 0.0 else 0.0)
+    if sd < IDENTICAL:  # identical runs (a simulator without noise)
+        return Scatter(n, 0.0, 0.0, math.inf if distance > 0.0 else 0.0)
+    se = sd / math.sqrt(n)
     return Scatter(n, sd, se, distance / se)
 
 
@@ -303,6 +306,7 @@ def report(result):
     lines.append('scatter: %s' % '; '.join(
         '%s %d run%s, %s' % (label, spread.runs, 's' * (spread.runs > 1),
                              'no scatter measurable' if math.isnan(spread.sd)
+                             else 'identical to 0.001 mm (no noise)' if spread.sd == 0.0
                              else 'standard deviation %.1f mm, centre of '
                              'gravity +- %.1f mm (standard error), %.1f '
                              'standard errors from zero' % (
