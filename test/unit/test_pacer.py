@@ -95,3 +95,12 @@ def test_a_target_in_the_past_is_refused():
     with pytest.raises(ValueError, match='not after'):
         pacer.advance(0.0, target=1_000_000_000)
     assert pacer.sim_ns == 1_000_000_000
+
+
+def test_the_start_up_line_says_max_for_a_speed_of_max():
+    # params.describe showed 'speed None x real time' for sim_speed:=max.
+    from rbx1_nav.common.params import describe, param
+    specs = [param('speed', 1.0, pacer.speed, 'x real time'),
+             param('seed', None, lambda name, value: value)]
+    values = {'speed': pacer.speed('speed', 'max'), 'seed': None}
+    assert describe(specs, values) == 'speed max x real time, seed none'

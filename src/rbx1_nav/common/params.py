@@ -261,14 +261,17 @@ def check_all(specs, lookup, node_name):
 
 
 def describe(specs, values):
-    """'name value unit, ...' for a start-up log line."""
-    def shown(value):
+    """'name value unit, ...' for a start-up log line. A value of None reads
+    as its check's ``none_text`` ('max' for a clock speed), else 'none'."""
+    def shown(value, spec):
+        if value is None:
+            return getattr(spec.check, 'none_text', 'none')
         if isinstance(value, bool):
             return 'on' if value else 'off'
         if isinstance(value, float):
             return '%g' % value
         return repr(value) if value == '' else str(value)
-    return ', '.join(('%s %s %s' % (s.name, shown(values[s.name]), s.unit)).strip()
+    return ', '.join(('%s %s %s' % (s.name, shown(values[s.name], s), s.unit)).strip()
                      for s in specs)
 
 

@@ -37,6 +37,9 @@ def speed(name, value):
                          % (name, MIN_SPEED, MAX_SPEED, value))
 
 
+speed.none_text = 'max'  # how params.describe shows it
+
+
 class ClockPacer:
     """Tick schedule for a clock running at ``speed`` x real time."""
 
