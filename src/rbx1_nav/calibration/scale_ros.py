@@ -87,9 +87,15 @@ class CalibrationNode(object):
     def spin(self):
         """Serve tests until shutdown; raises if a test fails."""
         self.runner.start()
-        rospy.loginfo('%s: ready. Start a test with: rosrun dynamic_reconfigure '
-                      'dynparam set %s start_test true', self.name,
-                      rospy.get_name())
+        with self.lock:
+            starting = self.config['start_test']
+        if starting:  # _start_test:=true on the command line
+            rospy.loginfo('%s: ready; starting the test at once (start_test true)',
+                          self.name)
+        else:
+            rospy.loginfo('%s: ready. Start a test with: rosrun dynamic_reconfigure '
+                          'dynparam set %s start_test true', self.name,
+                          rospy.get_name())
         poll = rospy.Rate(10)
         while not rospy.is_shutdown():
             with self.lock:
