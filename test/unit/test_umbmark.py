@@ -86,7 +86,7 @@ def test_a_robot_with_known_ed_and_eb_gives_them_back(ed, eb):
     # The exact model fitted: Ed - 1 within 0.5 % of itself, Eb within
     # 0.01 % (0.06 % and 0.002 % at worst here: the course ends each turn
     # within its tolerance, not on the dot). The paper's first-order
-    # formulas alone put Eb 0.2 %, 0.4 % and 0.6 % off on the last three.
+    # formulas alone put Eb 0.18 %, 0.32 % and 0.46 % off on the last three.
     assert result.ed - 1.0 == pytest.approx(ed - 1.0, rel=5e-3, abs=1e-6)
     assert result.eb == pytest.approx(eb, rel=1e-4)
 
