@@ -7,18 +7,21 @@ full speed, ground truth as the tape measure): ``calibrate_linear.py``
 and ``calibrate_angular.py``, their factors set on the driver,
 ``umbmark.py`` (two runs each way here, five in the bench, to keep it
 short), its multipliers set on the driver, then the out-and-back in
-precise mode. What the bench's run of 36 showed for every robot must hold
-for each of these (docs/performance.md, "The calibration procedure on a
-population of robots"):
+precise mode. What the bench's run of 100 showed (docs/performance.md,
+"The calibration procedure on a population of robots"; 99 went through
+the procedure, one failed a step) must hold for each of these:
 
 * each printed scale factor within FACTOR_TOLERANCE of the robot's own,
   measured on its MuJoCo model without ROS (population.model_factors:
-  rolling on a loaded tyre and scrubbing in turns included): 0.041 % at
-  worst in the bench;
-* UMBmark's Ed within ED_TOLERANCE of the true wheel ratio (0.091 %);
+  rolling on a loaded tyre and scrubbing in turns included): 0.050 %
+  (linear) and 0.063 % (angular) at worst in the bench, these five 0.028
+  %; the bound of the 36-robot run, 0.05 %, is kept;
+* UMBmark's Ed within ED_TOLERANCE of the true wheel ratio (0.071 % at
+  worst; these five 0.047 %);
 * after the procedure the precise course ends within PRECISE (mm, deg)
-  of its start by ground truth (12.1 mm and 1.50 deg at worst; these five
-  6.6 mm and 0.81 deg).
+  of its start by ground truth (8.1 mm and 0.94 deg at worst; these five
+  5.8 mm and 0.60 deg). Until UMBmark fitted its exact model the bench's
+  worst was 12.1 mm and 1.50 deg, and the bounds 12.5 mm and 1.5 deg.
 """
 import os
 import shutil
@@ -36,8 +39,8 @@ pytestmark = pytest.mark.skipif(
 
 ROBOTS, SEED = 5, 1
 FACTOR_TOLERANCE = 0.0005  # 0.05 %
-ED_TOLERANCE = 0.001  # 0.1 %
-PRECISE = (12.5, 1.5)  # mm, deg
+ED_TOLERANCE = 0.00075  # 0.075 %
+PRECISE = (8.5, 1.0)  # mm, deg
 
 
 def test_five_physics_robots_calibrate_as_the_population_did():
