@@ -43,16 +43,17 @@ def is_zero(twist):
 
 
 class RobotWatch(object):
-    """The latest true pose and every cmd_vel of one (namespaced) robot."""
+    """The latest true pose and every command of one (namespaced) robot,
+    heard on ``cmd_vel``, the topic its driver takes."""
 
-    def __init__(self, ns=''):
+    def __init__(self, ns='', cmd_vel='cmd_vel'):
         self.ns = ns
         self.lock = threading.Lock()
         self.truth = None
         self.old_links = set()  # ground_truth connections of robots gone
         self.commands = []  # (ROS time received, Twist)
         rospy.Subscriber(_join(ns, 'ground_truth'), Odometry, self._on_truth)
-        rospy.Subscriber(_join(ns, 'cmd_vel'), Twist, self._on_cmd)
+        rospy.Subscriber(_join(ns, cmd_vel), Twist, self._on_cmd)
 
     def _on_truth(self, msg):
         with self.lock:

@@ -51,16 +51,32 @@ def test_summary_line_blind():
 
 
 def test_listener_hint():
-    assert listener_hint(None) == 'is the robot driver running?'
+    assert listener_hint(None, '/course', '/cmd_vel') == 'is the robot driver running?'
     graph = ({}, {'/odom': ['/ekf'], '/mobile_base/commands/velocity': ['/base'],
                   '/cmd_vel_mux/input': ['/mux']},
              {'/odom': 'nav_msgs/Odometry',
               '/mobile_base/commands/velocity': 'geometry_msgs/Twist',
               '/cmd_vel_mux/input': 'geometry_msgs/Twist'})
-    assert listener_hint(graph) == (
+    assert listener_hint(graph, '/course', '/cmd_vel') == (
         'these topics take Twist commands: /cmd_vel_mux/input, '
         '/mobile_base/commands/velocity. Remap to the driver\'s, e.g. '
         'cmd_vel:=/cmd_vel_mux/input')
-    assert listener_hint(({}, {'/odom': ['/ekf']}, {'/odom': 'nav_msgs/Odometry'})) == (
+    assert listener_hint(({}, {'/odom': ['/ekf']}, {'/odom': 'nav_msgs/Odometry'}),
+                         '/course', '/cmd_vel') == (
         'no node takes geometry_msgs/Twist commands: is the robot driver '
         'running?')
+
+
+def test_listener_hint_skips_the_courses_own_subscriptions():
+    """A TurtleBot 2 driver on mobile_base/commands/velocity, the course on
+    /cmd_vel, which it hears itself (the second-driver watch), and a topic
+    only the course hears: the hint names the driver's topic alone."""
+    graph = ({}, {'/cmd_vel': ['/course'],
+                  '/mobile_base/commands/velocity': ['/mobile_base'],
+                  '/another_cmd': ['/course']},
+             {'/cmd_vel': 'geometry_msgs/Twist',
+              '/mobile_base/commands/velocity': 'geometry_msgs/Twist',
+              '/another_cmd': 'geometry_msgs/Twist'})
+    assert listener_hint(graph, '/course', '/cmd_vel') == (
+        'these topics take Twist commands: /mobile_base/commands/velocity. '
+        'Remap to the driver\'s, e.g. cmd_vel:=/mobile_base/commands/velocity')

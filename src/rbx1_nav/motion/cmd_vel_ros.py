@@ -129,7 +129,8 @@ class CmdVel(object):
                            lockstep.GRANT_TOPIC, wait))
                 raise CourseAborted('nothing subscribes to %s after %.1f s: %s'
                                     % (self.pub.resolved_name, wait,
-                                       listener_hint(topic_graph())))
+                                       listener_hint(topic_graph(), self.own,
+                                                     self.pub.resolved_name)))
             deadline.poll(50)
 
     def _listening(self):
