@@ -14,7 +14,7 @@ import pytest
 import yaml
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), '..', '..'))
-RVIZ = sorted(glob.glob(os.path.join(ROOT, '*.rviz')))
+RVIZ = sorted(glob.glob(os.path.join(ROOT, 'rviz', '*.rviz')))
 # rbx1_nav's, and rbx1_bringup's (the package the book's lines start
 # from, in the hidden .rbx1_bringup/: see test_the_books_names_find_one_file).
 BRINGUP = os.path.join(ROOT, '.rbx1_bringup')
@@ -57,7 +57,7 @@ def test_the_books_names_find_one_file():
     `roslaunch rbx1_bringup fake_turtlebot.launch` each find one file
     (roslaunch searches every folder of a package but hidden ones, and
     refuses a name it finds twice), and `rospack find rbx1_nav`/sim.rviz
-    is the view."""
+    is the view in rviz/ (one copy of each view: the root has links)."""
     if 'ROS_PACKAGE_PATH' not in os.environ:
         pytest.skip('needs a sourced ROS workspace (make test sources one)')
     import rospkg
@@ -71,7 +71,7 @@ def test_the_books_names_find_one_file():
                 assert len(found) == 1, (package, name, found)
     for view in ('sim.rviz', 'nav_ekf.rviz'):
         path = os.path.join(rospack.get_path('rbx1_nav'), view)
-        assert os.path.realpath(path) == os.path.join(ROOT, view)
+        assert os.path.realpath(path) == os.path.join(ROOT, 'rviz', view)
 WRAPPER = 'rosrun rbx1_nav end_launch_on_success.py'
 
 
