@@ -173,3 +173,34 @@ def test_readme_layout_names_every_folder_of_test():
         folders - set(layout))
     for path in layout:
         assert os.path.exists(os.path.join(ROOT, path)), 'README Layout names %s' % path
+
+
+def test_the_design_cards_top_level_and_the_books_view_paths():
+    """The card's top level is there, the views live in rviz/, and the
+    package root has links to them, where the book's
+    rviz -d `rospack find rbx1_nav`/sim.rviz looks (one copy of each)."""
+    for name in ('package.xml', 'CMakeLists.txt', 'setup.py', 'nodes', 'src',
+                 'launch', 'rviz', 'test'):
+        assert os.path.exists(os.path.join(ROOT, name)), name
+    views = sorted(os.path.basename(p) for p in glob.glob(os.path.join(ROOT, 'rviz', '*.rviz')))
+    assert views == ['nav_ekf.rviz', 'sim.rviz']
+    for view in views:
+        at_root = os.path.join(ROOT, view)
+        assert os.path.islink(at_root), '%s should link to rviz/%s' % (at_root, view)
+        assert os.readlink(at_root) == os.path.join('rviz', view)
+
+
+def test_a_course_nodes_help_says_truly_which_parameters_are_the_runners():
+    """Each course node's docstring says '~rate and every one after it are
+    the runner's': so they are."""
+    import importlib.util
+    from rbx1_nav.motion.runner_ros import common_params
+    runner = [spec.name for spec in common_params(rate=10)]
+    assert runner[0] == 'rate'
+    for node in ('odom_out_and_back.py', 'nav_square.py', 'timed_out_and_back.py'):
+        spec = importlib.util.spec_from_file_location(node[:-3], os.path.join(ROOT, 'nodes', node))
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        assert "~rate and every one after it\nare the runner's" in module.__doc__, node
+        names = [p.name for p in module.PARAMS]
+        assert names[names.index('rate'):] == runner, node

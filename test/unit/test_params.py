@@ -260,8 +260,9 @@ def test_a_bad_value_error_names_the_rosparam_delete_of_each_bad_parameter():
         check_all(CLEAR_SPECS, lambda name, default: given.get(name, default),
                   '/robot1/nav_square')
     message = str(err.value)
-    assert message.startswith('~linear_speed must be > 0 and <= 2, got -1; '
-                              "~goal_angle must be a number, got 'x'. ")
+    assert message.startswith('~linear_speed must be > 0 and <= 2, got -1 (in '
+                              'metres per second); ~goal_angle must be a '
+                              "number, got 'x' (in degrees). ")
     assert message.endswith('clear it with rosparam delete '
                             '/robot1/nav_square/linear_speed; rosparam delete '
                             '/robot1/nav_square/goal_angle')
@@ -315,3 +316,32 @@ def test_a_leftover_on_the_master_only_warns():
     assert params.typos(found, ['odom_out_and_back.py']) is None
     assert params.typos(found, ['odom_out_and_back.py', '_rate:=10']) is None
     assert params.typos([], ['odom_out_and_back.py', '__log:=/tmp/x.log']) is None
+
+
+def test_a_range_or_type_error_names_the_unit_and_where_the_books_nodes_differ():
+    """_goal_angle:=180 on odom_out_and_back.py: radians, as the book's
+    script, converted; nav_square.py's goal_angle is in degrees."""
+    from rbx1_nav.motion.book import NAV_SQUARE, OUT_AND_BACK
+
+    def error(specs, name, value):
+        return check_errors(specs, {name: value})
+
+    def check_errors(specs, given):
+        with pytest.raises(ValueError) as err:
+            check_all(specs, lambda name, default: given.get(name, default),
+                      '/course')
+        return str(err.value)
+
+    text = error(OUT_AND_BACK.params, 'goal_angle', 180)
+    assert ('~goal_angle must be >= -12.5664 and <= 12.5664, got 180 (in '
+            "radians; as in the book's odom_out_and_back.py and "
+            "timed_out_and_back.py; nav_square.py takes degrees; 180 deg is "
+            '3.14159 rad)') in text
+    text = error(NAV_SQUARE.params, 'goal_angle', 'ninety')
+    assert ("~goal_angle must be a number, got 'ninety' (in degrees; as in the "
+            "book's nav_square.py; odom_out_and_back.py and "
+            'timed_out_and_back.py take radians)') in text
+    assert '(in metres per second)' in error(OUT_AND_BACK.params, 'linear_speed', -1)
+    # A parameter without a unit gets nothing added.
+    assert error(OUT_AND_BACK.params, 'legs', 0).startswith(
+        '~legs must be an integer >= 1 and <= 1000, got 0. ')

@@ -22,7 +22,7 @@ from rbx1_nav.transform_utils import strip_leading_slash
 
 __all__ = ['number', 'integer', 'flag', 'frame', 'text', 'number_list', 'pairs',
            'names', 'raw', 'POSITIVE', 'Param', 'param', 'read_all', 'describe', 'unknown', 'usage',
-           'bounds', 'clear_text', 'check_all',
+           'bounds', 'clear_text', 'check_all', 'unit_text', 'UNIT_NAMES',
            'command_line', 'leftovers', 'typos']
 
 
@@ -203,18 +203,43 @@ def names(name, value, maximum=None):
 POSITIVE = dict(minimum=0.0, allow_zero=False)
 
 
-Param = namedtuple('Param', 'name default check options unit doc')
+Param = namedtuple('Param', 'name default check options unit doc note')
 Param.__doc__ = """One private parameter of a node, declared once.
 
 ``check`` is one of this module's functions and ``options`` its keyword
 arguments (bounds); ``unit`` and ``doc`` are for the start-up log line and
-the documentation.
+the documentation; ``note`` goes with the unit into an error about the
+value (where a twin node or the book takes another unit, say so).
 """
 
+#: Units as an error message spells them out.
+UNIT_NAMES = {'m': 'metres', 'm/s': 'metres per second', 'rad': 'radians',
+              'rad/s': 'radians per second', 'deg': 'degrees', 's': 'seconds',
+              'Hz': 'hertz'}
 
-def param(name, default, check, unit='', doc='', **options):
-    """A :class:`Param`; keyword arguments beyond ``doc`` go to ``check``."""
-    return Param(name, default, check, options, unit, doc)
+
+def param(name, default, check, unit='', doc='', note='', **options):
+    """A :class:`Param`; keyword arguments beyond ``note`` go to ``check``."""
+    return Param(name, default, check, options, unit, doc, note)
+
+
+def unit_text(spec, value):
+    """What an error about ``spec``'s ``value`` adds: ' (in radians; its
+    note; 180 deg is 3.14159 rad)', or '' for a parameter without a unit.
+    A value out of range in radians is most likely degrees: converted."""
+    if not spec.unit:
+        return ''
+    parts = ['in %s' % UNIT_NAMES.get(spec.unit, spec.unit)]
+    if spec.note:
+        parts.append(spec.note)
+    if spec.unit == 'rad':
+        try:
+            degrees = float(value)
+        except (TypeError, ValueError, OverflowError):
+            degrees = float('nan')
+        if math.isfinite(degrees) and not isinstance(value, bool):
+            parts.append('%g deg is %g rad' % (degrees, math.radians(degrees)))
+    return ' (%s)' % '; '.join(parts)
 
 
 def read_all(specs, lookup, prefix=''):
@@ -226,12 +251,12 @@ def read_all(specs, lookup, prefix=''):
     """
     values, problems = {}, []
     for spec in specs:
+        value = lookup(spec.name, spec.default)
         try:
-            values[spec.name] = spec.check(prefix + spec.name,
-                                           lookup(spec.name, spec.default),
+            values[spec.name] = spec.check(prefix + spec.name, value,
                                            **spec.options)
         except ValueError as err:
-            problems.append(str(err))
+            problems.append(str(err) + unit_text(spec, value))
             values[spec.name] = spec.default
     return values, problems
 

@@ -45,6 +45,15 @@ time :meth:`Course.hold` was called.
 """
 
 
+#: Where the book's course nodes differ in goal_angle's unit, as they do.
+ANGLE_NOTES = {
+    'rad': "as in the book's odom_out_and_back.py and timed_out_and_back.py; "
+           "nav_square.py takes degrees",
+    'deg': "as in the book's nav_square.py; odom_out_and_back.py and "
+           "timed_out_and_back.py take radians",
+}
+
+
 def legs_params(linear_speed, goal_distance, angular_speed, goal_angle,
                 angle_unit='rad', angular_tolerance=None, tolerance_unit='deg',
                 legs=None, pause=1.0):
@@ -68,6 +77,7 @@ def legs_params(linear_speed, goal_distance, angular_speed, goal_angle,
               'turn rate', maximum=MAX_ANGULAR_SPEED, **params.POSITIVE),
         param('goal_angle', goal_angle, params.number, angle_unit,
               'turn after each leg (negative: clockwise)',
+              note=ANGLE_NOTES[angle_unit],
               minimum=-max_angle, maximum=max_angle),
     ]
     if angular_tolerance is not None:
