@@ -135,6 +135,12 @@ class RosoutWatch(object):
                     return msg
         return None
 
+    def all(self, node, text):
+        """Every Log from ``node`` containing ``text``, in order."""
+        with self.lock:
+            return [msg for msg in self.records
+                    if msg.name == node and text in msg.msg]
+
     def stamp_of(self, node, text, wall_limit=10.0):
         """ROS time of that line, waiting for it to arrive; None if never."""
         found = []

@@ -1,11 +1,15 @@
 #!/usr/bin/env python3
 """rostest: fake_turtlebot.py started by rosrun on a master with leftovers.
 
-Run by fake_turtlebot_leftovers.test: /use_sim_time is true with nothing
-on /clock, and /fake_turtlebot/rate is 30 from "an earlier run". The node,
-started as a user would (rosrun, no _rate:= on its command line), must
-warn about the missing clock after its 5 s wait (20 s of wall time allowed
-for start-up on a loaded machine) and name the leftover rate.
+Run by fake_turtlebot_leftovers.test: /use_sim_time and /lockstep are true
+with nothing on /clock, and /fake_turtlebot/rate is 30 from "an earlier
+run". The node, started as a user would (rosrun, no _rate:= on its command
+line), must warn about the missing clock after its 5 s wait (20 s of wall
+time allowed for start-up on a loaded machine), name the leftover rate,
+then say that nothing grants lockstep steps, naming /use_sim_time, once
+(its reminder comes a minute later: none in the next 12 s). A course
+started there says the clock is missing once as a warning, then gives up
+with an error that says so, and exits 1.
 """
 import os
 import signal
@@ -17,7 +21,7 @@ import rospy
 import rostest
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
-from course_harness import RosoutWatch, wait_until  # noqa: E402
+from course_harness import CourseProcess, RosoutWatch, wait_until  # noqa: E402
 
 NODE = '/fake_turtlebot'
 
@@ -32,6 +36,10 @@ class FakeTurtlebotLeftoversTest(unittest.TestCase):
                                        wall_limit=20.0), 'no leftover warning')
             clock = log.find(NODE, 'nothing publishes /clock')
             leftover = log.find(NODE, 'from the parameter server')
+            self.assertTrue(wait_until(lambda: log.find(NODE, 'granted a step'),
+                                       wall_limit=30.0), 'no warning of no grants')
+            rospy.rostime.wallsleep(12.0)
+            no_grant = log.all(NODE, 'granted a step')
         finally:
             node.send_signal(signal.SIGINT)
             node.wait(30)
@@ -43,6 +51,26 @@ class FakeTurtlebotLeftoversTest(unittest.TestCase):
         self.assertIn('rosparam set /use_sim_time false', clock.msg)
         self.assertIn('rate 30 Hz', leftover.msg)
         self.assertIn('rosparam delete /fake_turtlebot', leftover.msg)
+        print('RESULT no grant: %r' % [m.msg for m in no_grant])
+        self.assertEqual(len(no_grant), 1, [m.msg for m in no_grant])
+        self.assertIn('/use_sim_time and /lockstep true', no_grant[0].msg)
+        self.assertIn('rosparam set /use_sim_time false', no_grant[0].msg)
+
+    def test_a_course_says_so_once_and_gives_up(self):
+        course = CourseProcess(params={'tf_wait': 1.0})
+        try:
+            status = course.wait()
+        finally:
+            course.cleanup()
+        out = course.output
+        self.assertEqual(status, 1, out)
+        lines = [line for line in course.lines if 'publishes /clock' in line]
+        self.assertEqual(len(lines), 2, out)
+        self.assertTrue(lines[0].startswith('[WARN]'), out)
+        self.assertIn('nothing publishes /clock after 5.0 s', lines[0])
+        self.assertTrue(lines[1].startswith('[ERROR]'), out)
+        self.assertIn('giving up, the robot not moved: /use_sim_time is true '
+                      'but nothing publishes /clock after 6.0 s', lines[1])
 
 
 if __name__ == '__main__':

@@ -16,7 +16,7 @@ import pytest
 from rbx1_nav.sim_time.lockstep import Owner
 from rbx1_nav.common.lockstep_member import (ALIGN, BACK, HANDLE, NO_TICK, REPEAT, STALE,
                                              Follower, Inbox, MessageLedger, Report,
-                                             aligned)
+                                             Reminder, aligned)
 
 MS = 1000000  # ns
 SIM = {'/sim'}  # a grant's members: the simulator, granted every step
@@ -690,3 +690,13 @@ def test_a_hand_off_delayed_as_long_as_possible_only_delays_time(slow):
     for node in nodes:
         assert len(node.ticks) == 40
         commands_applied_at_their_tick(sim, node)
+
+
+def test_a_member_nothing_grants_to_warns_once_then_once_a_minute():
+    reminder = Reminder(5.0, 60.0, now=100.0)
+    assert [reminder.due(t) for t in (100.0, 104.9)] == [None, None]
+    assert reminder.due(105.0) == 5.0
+    assert [reminder.due(t) for t in (110.0, 150.0, 164.9)] == [None, None, None]
+    assert reminder.due(165.0) == 65.0
+    reminder.granted(200.0)  # a grant ends the wait: the next one starts over
+    assert reminder.due(204.0) is None and reminder.due(205.5) == 5.5

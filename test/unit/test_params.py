@@ -6,7 +6,7 @@ from hypothesis import given, strategies as st
 
 from rbx1_nav.common.params import (POSITIVE, bounds, check_all, command_line, flag, frame,
                                     integer, leftovers, names, number, number_list, param,
-                                    text, usage)
+                                    start_text, text, usage)
 
 finite = st.floats(allow_nan=False, allow_infinity=False)
 
@@ -345,3 +345,12 @@ def test_a_range_or_type_error_names_the_unit_and_where_the_books_nodes_differ()
     # A parameter without a unit gets nothing added.
     assert error(OUT_AND_BACK.params, 'legs', 0).startswith(
         '~legs must be an integer >= 1 and <= 1000, got 0. ')
+
+
+def test_the_start_up_line_names_only_what_differs_from_the_defaults():
+    values = {'precise': False, 'tf_wait': 5.0, 'frame': 'odom'}
+    assert start_text(LEFTOVER_SPECS, values) == (
+        'every parameter at its default (--help lists them)')
+    assert start_text(LEFTOVER_SPECS, dict(values, precise=True, tf_wait=2.5)) == (
+        'precise on, tf_wait 2.5 s; every other parameter at its default '
+        '(--help lists them)')

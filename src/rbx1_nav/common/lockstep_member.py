@@ -14,7 +14,7 @@ import collections
 
 __all__ = ['Follower', 'MessageLedger', 'Inbox', 'Report', 'RESEND',
            'LOST_MESSAGES', 'STALLED', 'WAIT_WARNING', 'HANDLE', 'REPEAT', 'BACK', 'STALE', 'NO_TICK', 'ALIGN',
-           'aligned']
+           'aligned', 'Reminder']
 
 #: Wall seconds a member waits for a grant, or the owner for a report,
 #: before sending its last message again.
@@ -226,3 +226,28 @@ class Inbox(object):
             self.taken[source] += n
         out.sort(key=lambda entry: entry[:3])
         return [entry[3] for entry in out]
+
+
+class Reminder(object):
+    """When a member that nothing grants steps to says so: ``first`` wall
+    seconds into a wait, then every ``every`` seconds of the same wait
+    (once a minute, not every few seconds, for a node left waiting).
+
+    :meth:`due` takes the wall time now and answers the seconds waited
+    when a warning is due, else None; :meth:`granted` ends the wait.
+    """
+
+    def __init__(self, first, every, now):
+        self.first = first
+        self.every = every
+        self.granted(now)
+
+    def granted(self, now):
+        self.since = now
+        self.next = now + self.first
+
+    def due(self, now):
+        if now < self.next:
+            return None
+        self.next = now + self.every
+        return now - self.since

@@ -15,14 +15,16 @@ import rospy
 from rospy.impl.registration import get_topic_manager
 
 from rbx1_nav.common.lockstep_member import (LOST_MESSAGES, REPEAT, RESEND, STALE, STALLED,
-                                             WAIT_WARNING, Follower, Inbox, MessageLedger)
+                                             WAIT_WARNING, Follower, Inbox, MessageLedger,
+                                             Reminder)
 from rbx1_nav.common.publish_ros import (delivered, from_ns, keep_own_time, link, publish,
                                          sender, synchronous_publisher, to_ns)
 from rbx1_nav.common.master_ros import node_answers, topic_graph
 from rbx1_nav.msg import LockstepGrant, LockstepReport
 
 __all__ = ['GRANT_TOPIC', 'REPORT_TOPIC', 'GRANT_LIMIT', 'POLL', 'STALLED',
-           'NO_OWNER_WARNING', 'no_owner_text', 'connected_publishers', 'JoinError',
+           'NO_OWNER_WARNING', 'NO_OWNER_REMINDER', 'no_owner_text', 'NoOwnerWarning',
+           'connected_publishers', 'JoinError',
            'Member', 'CountedPublisher', 'enabled']
 
 #: Global topics, like /clock: one owner of simulated time per master.
@@ -42,15 +44,37 @@ FIRST_GRANT = 1.0
 #: is still connected.
 POLL = 0.1
 #: Wall seconds a simulator, filter or bag player waits for a grant before
-#: it says that nothing grants steps.
+#: it says that nothing grants steps, and between its reminders after.
 NO_OWNER_WARNING = 5.0
+NO_OWNER_REMINDER = 60.0
 
 
-def no_owner_text(log_name):
-    """The warning of a member that nothing grants steps to."""
-    return ('%s: /lockstep is true but no step granted on %s for %.0f s: '
-            'start sim_clock (roslaunch rbx1_nav sim_clock.launch), or set '
-            '/lockstep false' % (log_name, GRANT_TOPIC, NO_OWNER_WARNING))
+def no_owner_text(log_name, waited):
+    """The warning of a member that nothing grants steps to, ``waited``
+    wall seconds into its wait."""
+    return ('%s: simulated time is set (/use_sim_time and /lockstep true) '
+            'but nothing has granted a step on %s for %.0f s: no sim_clock '
+            'runs. For real time, `rosparam set /use_sim_time false` and start '
+            'this again (a launch with sim_speed leaves /use_sim_time true on '
+            'the master after it ends); for simulated time, roslaunch rbx1_nav '
+            'sim_clock.launch' % (log_name, GRANT_TOPIC, waited))
+
+
+class NoOwnerWarning(object):
+    """A member's warnings while nothing grants it steps (Reminder)."""
+
+    def __init__(self, log_name):
+        self.log_name = log_name
+        self.reminder = Reminder(NO_OWNER_WARNING, NO_OWNER_REMINDER,
+                                 time.monotonic())
+
+    def granted(self):
+        self.reminder.granted(time.monotonic())
+
+    def check(self):
+        waited = self.reminder.due(time.monotonic())
+        if waited is not None and not rospy.is_shutdown():
+            rospy.logwarn(no_owner_text(self.log_name, waited))
 
 
 def enabled():
@@ -161,15 +185,14 @@ class Member(object):
         self.heard = time.monotonic()
         self.busy = False  # no notify: a wake-up of serve's thread every step
 
-    def serve(self, limit, silent):
+    def serve(self, warning):
         """A simulator's loop, until shutdown or an error of ``step`` (raised
         here). Each step runs in the thread that receives the grants: a
         hand-off to this one would cost every step a thread woken (tens of
         microseconds on a virtual machine). Meanwhile this
         thread sends the last report again every RESEND wall seconds
-        without a grant (at once when a new owner appears) and calls
-        ``silent()`` every ``limit`` s without one."""
-        warn_at = time.monotonic() + limit
+        without a grant (at once when a new owner appears) and warns
+        (``warning``, a NoOwnerWarning) while it gets none."""
         while not rospy.is_shutdown():
             with self.cond:
                 self.cond.wait_for(
@@ -181,11 +204,10 @@ class Member(object):
                 quiet = not self.busy and now - self.heard > RESEND
             if rejoin or quiet:
                 self._send_again()
-            if not quiet:
-                warn_at = now + limit
-            elif now > warn_at:
-                warn_at = now + limit
-                silent()
+            if quiet:
+                warning.check()
+            else:
+                warning.granted()
         deadline = time.monotonic() + LOST_MESSAGES
         while self.busy and time.monotonic() < deadline:  # a step under way ends
             rospy.rostime.wallsleep(0.01)                  # before the node does
@@ -277,25 +299,30 @@ class Member(object):
     def join_patiently(self, log_name):
         """Join, however long the owner takes to come (a simulator, a
         filter, a bag player: no robot waits on them), warning every
-        NO_OWNER_WARNING s; False at shutdown."""
+        NO_OWNER_WARNING s, then every NO_OWNER_REMINDER s; False at
+        shutdown."""
+        warning = NoOwnerWarning(log_name)
         while not rospy.is_shutdown():
             try:
                 self.join(NO_OWNER_WARNING)
                 return True
             except JoinError:
-                rospy.logwarn(no_owner_text(log_name))
+                warning.check()
         return False
 
     def grants(self, log_name):
         """(action, time ns, grant) of each step granted to a member no
         robot waits on (a filter, a bag player), until shutdown; a warning
-        every NO_OWNER_WARNING s without one."""
+        NO_OWNER_WARNING s into a wait without one, then every
+        NO_OWNER_REMINDER s."""
+        warning = NoOwnerWarning(log_name)
         while not rospy.is_shutdown():
             granted = self.wait_grant(NO_OWNER_WARNING)
             if granted is not None:
+                warning.granted()
                 yield granted
-            elif not rospy.is_shutdown():
-                rospy.logwarn(no_owner_text(log_name))
+            else:
+                warning.check()
 
     def wait_grant(self, limit=None):
         """Wait for the next step granted to this node; return (action,

@@ -183,7 +183,7 @@ def start_node(name, specs, doc, clock=True):
     except ValueError as err:
         rospy.logerr('%s: bad parameters, not moving: %s', name, err)
         return None
-    rospy.loginfo('%s: %s', name, params.describe(specs, values))
+    rospy.loginfo('%s: %s', name, params.start_text(specs, values))
     old = params.leftovers(specs, values, sys.argv, rospy.get_name())
     if old:
         rospy.logwarn('%s: %s', name, old)

@@ -22,7 +22,7 @@ from rbx1_nav.transform_utils import strip_leading_slash
 
 __all__ = ['number', 'integer', 'flag', 'frame', 'text', 'number_list', 'pairs',
            'names', 'raw', 'POSITIVE', 'Param', 'param', 'read_all', 'describe', 'unknown', 'usage',
-           'bounds', 'clear_text', 'check_all', 'unit_text', 'UNIT_NAMES',
+           'bounds', 'clear_text', 'check_all', 'unit_text', 'UNIT_NAMES', 'start_text',
            'command_line', 'leftovers', 'typos']
 
 
@@ -298,6 +298,16 @@ def describe(specs, values):
         return repr(value) if value == '' else str(value)
     return ', '.join(('%s %s %s' % (s.name, shown(values[s.name], s), s.unit)).strip()
                      for s in specs)
+
+
+def start_text(specs, values):
+    """A node's start-up line: the parameters whose values differ from
+    their defaults (:func:`describe`), the others summed up."""
+    changed = [spec for spec in specs if values[spec.name] != spec.default]
+    if not changed:
+        return 'every parameter at its default (--help lists them)'
+    return '%s; every other parameter at its default (--help lists them)' % (
+        describe(changed, values))
 
 
 def unknown(given, specs):

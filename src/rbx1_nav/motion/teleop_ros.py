@@ -156,7 +156,7 @@ def main(specs, doc):
         rospy.logerr('teleop_keyboard: bad parameters, not starting: %s', err)
         return 1
     rospy.loginfo('teleop_keyboard: publishing %s; %s', rospy.resolve_name(
-        'cmd_vel'), params.describe(specs, settings))
+        'cmd_vel'), params.start_text(specs, settings))
     node = TeleopKeyboard(settings)
     watch_publishers('teleop_keyboard', [node.cmd_vel.resolved_name],
                      own=rospy.get_name())

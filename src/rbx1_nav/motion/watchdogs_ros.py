@@ -20,7 +20,7 @@ from nav_msgs.msg import Odometry
 
 from rbx1_nav.common.master_ros import MasterWatch
 from rbx1_nav.common.master_watch import gone_text, restarted_text
-from rbx1_nav.common.node_ros import wait_for_clock
+from rbx1_nav.common.node_ros import CLOCK_WAIT, wait_for_clock
 from rbx1_nav.common.ros_time import no_clock_text
 from rbx1_nav.motion.aborted import CourseAborted
 from rbx1_nav.motion.dropouts import HOLD, LOST, Dropouts
@@ -29,14 +29,14 @@ WARN_PERIOD = 10.0  # s between warnings about an old transform or a stall
 
 
 def require_clock(wait):
-    """Under /use_sim_time, wait up to ``wait`` wall s for the first /clock;
-    CourseAborted when it does not come."""
-    if rospy.Time.now().is_zero():  # only under /use_sim_time
-        rospy.loginfo('/use_sim_time is set: waiting for /clock')
+    """Under /use_sim_time, wait up to ``wait`` wall s more for the first
+    /clock (start_node has waited CLOCK_WAIT s, and said so); CourseAborted
+    when it does not come."""
     if not wait_for_clock(wait):
         if rospy.is_shutdown():
             raise rospy.ROSInterruptException('shutdown waiting for /clock')
-        raise CourseAborted(no_clock_text(wait))
+        raise CourseAborted('giving up, the robot not moved: %s'
+                            % no_clock_text(CLOCK_WAIT + wait))
 
 
 class ClockWatchdog(object):

@@ -86,8 +86,7 @@ def spin_lockstep(rate, step, robots, log_name):
         robot.member = member
     rospy.on_shutdown(member.leave)
     member.join_patiently(log_name)
-    member.serve(lockstep.NO_OWNER_WARNING, lambda: rospy.logwarn(
-        lockstep.no_owner_text(log_name)))
+    member.serve(lockstep.NoOwnerWarning(log_name))
 
 
 class _Grid(object):
