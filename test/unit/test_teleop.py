@@ -173,6 +173,8 @@ def test_help_names_every_key_and_the_timeout():
         assert key in text
     assert '0.6 s' in text
     assert max(len(line) for line in text.splitlines()) < 80
+    # How to quit is on the first screen, before the keys: q is a speed key.
+    assert text.splitlines()[1] == 'To quit: Q (capital: lowercase q speeds up) or Ctrl-C.'
 
 
 # --- settings ----------------------------------------------------------------

@@ -222,6 +222,7 @@ def help_text(key_timeout):
     """The key help the node prints at start-up."""
     return '\n'.join((
         'Keyboard teleop: hold a key to move, release it to stop.',
+        'To quit: Q (capital: lowercase q speeds up) or Ctrl-C.',
         '',
         '   u    i    o       forward-left  forward   forward-right',
         '   j    k    l       turn left     stop      turn right',
@@ -231,5 +232,5 @@ def help_text(key_timeout):
         'the last' % key_timeout,
         'motion key (terminals report no key release).',
         'q/z: both speeds +/-10 %   w/x: linear only   e/c: angular only',
-        'Q or Ctrl-C: stop the robot and quit.',
+        'Q (capital) or Ctrl-C: stop the robot and quit.',
     ))
