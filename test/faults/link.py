@@ -163,11 +163,14 @@ class TwoHosts(object):
             json.dump({'delay': delay, 'loss': loss, 'towards': towards}, f)
         os.replace(tmp, self.control)
 
-    def run(self, host, argv, **popen):
-        """Start ``argv`` on ``host`` with its ROS_IP and the master's URI."""
+    def run(self, host, argv, ros_env=True, **popen):
+        """Start ``argv`` on ``host`` with its ROS_IP and the master's URI
+        (with ``ros_env`` false, with neither: ``argv`` sets them)."""
         env = dict(os.environ, ROS_IP=ADDRESSES[host], ROS_MASTER_URI=self.master_uri,
                    PYTHONUNBUFFERED='1')
         env.pop('ROS_HOSTNAME', None)
+        if not ros_env:
+            del env['ROS_IP'], env['ROS_MASTER_URI']
         proc = subprocess.Popen(['ip', 'netns', 'exec', self.ns[host]] + list(argv),
                                 env=env, start_new_session=True, **popen)
         self.procs.append(proc)

@@ -507,3 +507,123 @@ def test_twenty_percent_loss_precise_courses_ride_it_out(hosts):
             'summary line:\n%s' % (r['robot'], r['said'][3:], r['truth'], [
                 round(row[0] - r['summary'][0], 2) for row in truth_rows(truth, r['robot'])
                 if row[0] > r['summary'][0] - 1.0], text))
+
+
+README = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..', 'README.md')
+#: The calibrated robot's precise course by ground truth, as the README's
+#: "On your real robot" promises: the book's centimetre, and a degree.
+REHEARSAL_MM, REHEARSAL_DEG = 10.0, 1.0
+
+
+def real_robot_block():
+    """The README's "On your real robot" lines: (the robot's lines, the
+    laptop's), each a list of the commands as typed, comments dropped."""
+    with open(README) as f:
+        section = f.read().split('## On your real robot', 1)[1].split('\n## ', 1)[0]
+    block = re.search(r'```bash\n(.*?)```', section, re.S).group(1)
+    robot, laptop = re.split(r'^# On the laptop.*$', block, flags=re.M)
+
+    def commands(part):
+        lines = (line.split('#')[0].strip() for line in part.splitlines())
+        return [line for line in lines if line]
+    return commands(robot), commands(laptop)
+
+
+def on_host(hosts, host, export, command, **popen):
+    """``command`` on ``host`` in a shell that has run only the README's
+    ``export`` line (no ROS_IP or ROS_MASTER_URI of the test's)."""
+    shell = '%s; exec %s' % (export.replace('ROBOT_IP', link.ADDRESSES['robot'])
+                             .replace('LAPTOP_IP', link.ADDRESSES['workstation']), command)
+    return hosts.run(host, ['bash', '-c', shell], ros_env=False, stdout=subprocess.PIPE,
+                     stderr=subprocess.STDOUT, universal_newlines=True, **popen)
+
+
+def start_turtlebot2(hosts, export, **corrections):
+    """What the README's driver line starts on a TurtleBot 2, played by the
+    realistic fake robot (config/realistic.yaml: odometry 2 % long, turns
+    5 % long) on a TurtleBot 2's topic, free-running at real time, with the
+    driver's ``corrections``; returns its ground truth's lines. Its encoder
+    noise is off: at real time where it falls depends on the machine, and
+    what noise does to the course is a distribution, measured in bench
+    (the population section)."""
+    realistic = os.path.join(os.path.dirname(README), 'config', 'realistic.yaml')
+    setup = on_host(hosts, 'robot', export, 'rosparam load %s /fake_turtlebot' % realistic)
+    assert setup.wait(60) == 0, setup.stdout.read()
+    for name, value in dict(corrections, encoder_noise=0.0).items():
+        setup = on_host(hosts, 'robot', export, 'rosparam set /fake_turtlebot/%s %r'
+                        % (name, value))
+        assert setup.wait(60) == 0, setup.stdout.read()
+    Lines(on_host(hosts, 'robot', export, 'rosrun rbx1_nav fake_turtlebot.py '
+                  'cmd_vel:=mobile_base/commands/velocity'))
+    truth = Lines(on_host(hosts, 'robot', export, 'rostopic echo -p /ground_truth/pose/pose'))
+    deadline = time.monotonic() + 120
+    while position(truth) is None:
+        assert time.monotonic() < deadline, 'no ground_truth:\n' + truth.text()
+        time.sleep(0.05)
+    return truth
+
+
+def calibrate(hosts, export, run, answer, measure, truth):
+    """The README's calibration ``run`` line, then its ``answer`` line with
+    the value ``measure(start, end)`` gives from the ground truth's rows (the
+    tape or the protractor); returns the printed factor."""
+    node = Lines(on_host(hosts, 'workstation', export, run))
+    start = planar(echoed(truth))
+    node.wait_for('odometry says', 120)
+    time.sleep(1.0)  # the still robot's truth, over the link
+    value = measure(start, planar(echoed(truth)))
+    said = on_host(hosts, 'workstation', export,
+                   re.sub(r'[\d.]+$', '%.4f' % value, answer))
+    assert said.wait(60) == 0, said.stdout.read()
+    _, line = node.wait_for(r'scale_correction = measured / odometry = \S+ / \S+ = \S+', 60)
+    factor = float(line.split()[-1])
+    link.kill_tree(node.proc.pid, 2)  # Ctrl-C, as the user ends it
+    assert node.proc.wait(30) == 0, node.text()
+    print('RESULT rehearsal: %s measured %.4f by ground truth: %s' % (run.split()[2], value, line))
+    return factor
+
+
+def test_the_readmes_real_robot_lines_on_a_turtlebot2_over_two_hosts(hosts):
+    """The README's "On your real robot" as a TurtleBot 2 owner types it:
+    the robot host runs its own master and driver (the realistic fake robot
+    on mobile_base/commands/velocity, real time), the workstation host
+    sets the README's ROS_MASTER_URI and ROS_IP, calibrates with the ground
+    truth as the tape, the driver restarts with the two factors, and the
+    precise course ends within REHEARSAL_MM / REHEARSAL_DEG by ground truth."""
+    robot_lines, laptop_lines = real_robot_block()
+    robot_export, driver = robot_lines
+    laptop_export, linear, distance, angular, angle, course = laptop_lines
+    assert driver.startswith('roslaunch turtlebot_bringup minimal.launch'), robot_lines
+    assert 'calibrate_linear.py' in linear and 'measured_distance' in distance
+    assert 'calibrate_angular.py' in angular and 'measured_angle' in angle
+    assert '_precise:=true' in course and 'cmd_vel:=/mobile_base/commands/velocity' in course
+    core = Lines(on_host(hosts, 'robot', robot_export, 'roscore -p %d' % link.MASTER_PORT))
+    core.wait_for('started core service', 60)
+    truth = start_turtlebot2(hosts, robot_export)
+
+    linear_factor = calibrate(hosts, laptop_export, linear, distance,
+                              lambda a, b: math.hypot(b[0] - a[0], b[1] - a[1]), truth)
+    angular_factor = calibrate(hosts, laptop_export, angular, angle, lambda a, b: 360.0 + angle_deg(
+        math.degrees(b[2]), math.degrees(a[2])), truth)
+    # realistic.yaml's errors, 1/1.02 and 1/1.05, less its encoder noise.
+    assert abs(linear_factor * 1.02 - 1.0) < 0.005, linear_factor
+    assert abs(angular_factor * 1.05 - 1.0) < 0.005, angular_factor
+
+    # The driver restarted with the factors, as the README says.
+    for proc in hosts.procs[1:]:
+        link.kill_tree(proc.pid, 2)
+        proc.wait(30)
+    truth = start_turtlebot2(hosts, robot_export, odom_linear_scale_correction=linear_factor,
+                             odom_angular_scale_correction=angular_factor)
+    start = planar(echoed(truth))
+    run = Lines(on_host(hosts, 'workstation', laptop_export, course))
+    status = run.proc.wait(180)
+    time.sleep(1.0)  # the still robot's truth, over the link
+    end = planar(echoed(truth))
+    off = (1000.0 * math.hypot(end[0] - start[0], end[1] - start[1]),
+           angle_deg(math.degrees(end[2]), math.degrees(start[2])))
+    print('RESULT rehearsal: factors %.4f and %.4f; the precise course ended %.1f mm and '
+          '%+.2f deg from its start by ground truth (limits %g mm, %g deg)'
+          % (linear_factor, angular_factor, off[0], off[1], REHEARSAL_MM, REHEARSAL_DEG))
+    assert status == 0, run.text()
+    assert off[0] < REHEARSAL_MM and abs(off[1]) < REHEARSAL_DEG, run.text()
