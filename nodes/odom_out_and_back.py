@@ -8,7 +8,7 @@ rbx1_nav.motion.book, the ROS side in rbx1_nav.motion.runner_ros.
 Publishes:  cmd_vel (geometry_msgs/Twist), relative, so a namespace works.
 Subscribes: odom (nav_msgs/Odometry), only its velocity: the summary counts the
             spells the robot stood still while commanded to move.
-Parameters: the book's values by default; the last eight are the
+Parameters: the book's values by default; those from ~rate on are the
 runner's (rbx1_nav.motion.runner_ros), shared by every motion node.
 Exit status: 0 after a completed course, 1 on bad or unknown parameters,
 missing or stale tf, another node driving the robot, a transform from two

@@ -14,7 +14,7 @@ ROS side in rbx1_nav.motion.runner_ros.
 Publishes:  cmd_vel (geometry_msgs/Twist), relative.
 Subscribes: odom (nav_msgs/Odometry), only its velocity: the summary counts the
             spells the robot stood still while commanded to move.
-Parameters: the book's values by default; the last eight are the
+Parameters: the book's values by default; those from ~rate on are the
 runner's (rbx1_nav.motion.runner_ros), shared by every motion node.
 Exit status: 0 after a completed course, 1 otherwise; the robot is always
 sent a stop.
