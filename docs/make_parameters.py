@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """Write docs/parameters.md from the nodes' own declarations.
 
 Each node file in nodes/ says what it does (its docstring) and declares its
