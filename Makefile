@@ -22,7 +22,7 @@ DEB_PACKAGES := catkin ros-cmake-modules python3-catkin-pkg python3-setuptools \
   python3-pip
 SUDO := $(if $(filter 0,$(shell id -u)),,sudo)
 
-.PHONY: deps build test unit lint demo bench clean
+.PHONY: deps build test unit lint demo bench docs clean
 
 # MuJoCo, for the physics robot (fake_turtlebot.py ~physics): from PyPI, as
 # Debian has none, into /usr/bin/python3's site (/usr/local), where the
@@ -70,7 +70,7 @@ $(VENV)/.$(VERMIN):
 # ROS Noetic runs Python 3.8: nothing newer anywhere (vermin fails on it).
 lint: build $(VENV)/.$(VERMIN)
 	$(ROS) catkin_lint -W2 --strict $(WS)/src/rbx1_nav $(WS)/src/rbx1_bringup
-	$(VENV)/bin/vermin --target=3.8- --violations --no-tips nodes src bench test cfg/*.cfg setup.py
+	$(VENV)/bin/vermin --target=3.8- --violations --no-tips nodes src bench test docs cfg/*.cfg setup.py
 
 # Unit tests (pytest, no master), every test/rostest/*.test through rostest, and the
 # fault suite, in one pytest run of three workers on the two cores: the
@@ -106,6 +106,10 @@ demo: build
 BENCH_ARGS ?=
 bench: build
 	$(ROS) python3 bench/bench.py $(BENCH_ARGS)
+
+# docs/parameters.md from the nodes' declarations (the same as their --help).
+docs: build
+	$(ROS) python3 docs/make_parameters.py
 
 clean:
 	rm -rf $(WS)

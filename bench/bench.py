@@ -27,7 +27,7 @@ Sections (``--sections``, all but population by default):
   simulated seconds per wall second, read from /clock), the default course at full speed on each, and how
   many physics robots one fake_fleet keeps at 1x (``--robots``).
 
-- population (only when named): the README's calibration procedure on
+- population (only when named): docs/calibration.md's procedure on
   ``--population`` robots drawn from ``--seed`` (bench/population.py;
   its own tables, bench/results/population_*.md).
 

@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
-"""The README's calibration procedure on a population of robots.
+"""The calibration procedure (docs/calibration.md) on a population of robots.
 
 ``make bench BENCH_ARGS="--sections population"`` draws ``--population``
 robots (100) from ``--seed`` (1), each built wrong the way TurtleBot-class
-hardware is (:data:`RANGES`), and takes every robot through the README's
+hardware is (:data:`RANGES`), and takes every robot through that
 procedure unattended, with the nodes a user runs and the simulator's
 ``ground_truth`` as the tape measure:
 
@@ -11,7 +11,7 @@ procedure unattended, with the nodes a user runs and the simulator's
 2. ``calibrate_linear.py`` then ``calibrate_angular.py``; their printed
    factors set on the robot's driver (``odom_*_scale_correction``), the
    driver restarted;
-3. ``umbmark.py`` (``--umbmark-runs`` squares each way, the README's 5);
+3. ``umbmark.py`` (``--umbmark-runs`` squares each way, the docs' 5);
    the course in book mode and in precise mode (scale factors only);
 4. the multipliers UMBmark printed, if it supports a correction, set on
    the driver, the driver restarted, and the two courses again (after;

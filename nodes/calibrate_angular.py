@@ -10,16 +10,21 @@ odometry.
   rosrun rbx1_nav calibrate_angular.py _start_test:=true
   rosrun dynamic_reconfigure dynparam set /calibrate_angular measured_angle 352
 
+Publishes:  cmd_vel (geometry_msgs/Twist), relative.
+Subscribes: odom (its velocity, as every motion node) and, when set,
+            ~ground_truth_topic (nav_msgs/Odometry).
+
 The first six parameters below are the reconfigure fields
 (rbx1_nav.cfg.CalibrateAngularConfig): dynparam sets them while the node
 runs; the rest are read at start-up.
 """
 from rbx1_nav.calibration.scale import ANGULAR
 from rbx1_nav.cfg import CalibrateAngularConfig
-from rbx1_nav.calibration.scale_ros import main
+from rbx1_nav.calibration.scale_ros import main, node_params
 from rbx1_nav.common.node_ros import exit_node
 
 NAME = 'calibrate_angular'
+PARAMS = node_params(CalibrateAngularConfig)
 
 if __name__ == '__main__':
-    exit_node(NAME, main(ANGULAR, CalibrateAngularConfig, __doc__))
+    exit_node(NAME, main(ANGULAR, CalibrateAngularConfig, PARAMS, __doc__))

@@ -9,16 +9,21 @@ Prints odom_linear_scale_correction = measured / odometry.
   rosrun rbx1_nav calibrate_linear.py _start_test:=true
   rosrun dynamic_reconfigure dynparam set /calibrate_linear measured_distance 0.97
 
+Publishes:  cmd_vel (geometry_msgs/Twist), relative.
+Subscribes: odom (its velocity, as every motion node) and, when set,
+            ~ground_truth_topic (nav_msgs/Odometry).
+
 The first six parameters below are the reconfigure fields
 (rbx1_nav.cfg.CalibrateLinearConfig): dynparam sets them while the node
 runs; the rest are read at start-up.
 """
 from rbx1_nav.calibration.scale import LINEAR
 from rbx1_nav.cfg import CalibrateLinearConfig
-from rbx1_nav.calibration.scale_ros import main
+from rbx1_nav.calibration.scale_ros import main, node_params
 from rbx1_nav.common.node_ros import exit_node
 
 NAME = 'calibrate_linear'
+PARAMS = node_params(CalibrateLinearConfig)
 
 if __name__ == '__main__':
-    exit_node(NAME, main(LINEAR, CalibrateLinearConfig, __doc__))
+    exit_node(NAME, main(LINEAR, CalibrateLinearConfig, PARAMS, __doc__))

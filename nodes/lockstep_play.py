@@ -15,6 +15,9 @@ bag (make it required="true" for the launch to end with it), 1 on a bad
 bag or parameter, or without lockstep. For real time, use rosbag play.
 
     roslaunch rbx1_nav pose_ekf_replay.launch bag:=/path/to.bag fast:=true
+
+Publishes:  each played topic under its relative name, /lockstep_report
+Subscribes: /lockstep_grant
 """
 from rbx1_nav.common.node_ros import exit_node
 from rbx1_nav.common.params import integer, number, param, text

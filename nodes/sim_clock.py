@@ -15,6 +15,12 @@ next; a course then ends the same at any speed and under any load.
 with only simulators taking part (a course not started yet, or over) it
 runs at ~idle_speed, so a waiting simulator does not spin a core for
 nothing; with nobody taking part, at real time.
+
+Publishes:  /clock (rosgraph_msgs/Clock), /lockstep_grant
+            (rbx1_nav/LockstepGrant, under /lockstep)
+Subscribes: /lockstep_report (rbx1_nav/LockstepReport, under /lockstep)
+sim_clock.launch sets ~speed from its arg sim_speed (a number, or max),
+~members from members and the global /lockstep from lockstep (true).
 """
 from rbx1_nav.common.node_ros import exit_node
 from rbx1_nav.common.params import integer, number, param

@@ -26,6 +26,10 @@ the noise and about how many runs would be needed. It writes them to
 ~results (YAML; corrections null when not supported) and plots them to
 ~plot (PNG; empty: no plot), together with an earlier ~compare results file.
 
+Publishes:  cmd_vel (geometry_msgs/Twist), relative.
+Subscribes: odom (its velocity, as every motion node) and, when set,
+            ~ground_truth_topic (nav_msgs/Odometry).
+
 The paper's squares have 4 m sides; ~side defaults to 1 m. Exit status 0
 with a result, 1 otherwise.
 """

@@ -10,7 +10,7 @@ the error, and it must then exit with status 1. These deadlines are checked
 on ROS time stamps (the stop's arrival, the error's /rosout stamp), in
 which the node counts them.
 
-The README's promise, exit 1 within tf_timeout + link_grace + 2 s of
+docs/safety.md's promise, exit 1 within tf_timeout + link_grace + 2 s of
 losing the robot, is checked on the wall clock, from just before the kill
 to the process's end. On a robot ROS time is wall time; here the lockstep
 clock runs at up to 5x, never faster, so the ROS-time part (tf_timeout +
@@ -35,7 +35,7 @@ from course_harness import (CourseProcess, RobotWatch, kill_node,  # noqa: E402
                             RosoutWatch, is_zero, wait_under_way)
 from rbx1_nav.common.node_ros import SHUTDOWN_LIMIT  # noqa: E402
 
-EXIT_MARGIN = 2.0  # wall s, the README's: stop, error line, teardown, exit
+EXIT_MARGIN = 2.0  # wall s, docs/safety.md's: stop, error line, teardown, exit
 
 
 class SimKilledTest(unittest.TestCase):

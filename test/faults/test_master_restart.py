@@ -300,7 +300,7 @@ def test_robot_lost_with_a_silent_master_the_course_stops_and_exits_in_time(grap
         link.kill_tree(robot.proc.pid)
         robot.proc.wait()
         lost = time.monotonic()
-        # The README's bound: the ROS-time deadlines (wall time here, no
+        # docs/safety.md's bound: the ROS-time deadlines (wall time here, no
         # /use_sim_time), then 2 s for the stop, the error line, rospy's
         # shutdown (abandoned after SHUTDOWN_LIMIT, 1 s) and the exit.
         limit = TF_TIMEOUT + LINK_GRACE + 2.0

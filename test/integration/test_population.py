@@ -1,7 +1,7 @@
 """The calibration procedure kept honest on a small population.
 
 The first five physics robots that ``make bench BENCH_ARGS="--sections
-population"`` draws (seed 1), each through the README's procedure as the
+population"`` draws (seed 1), each through docs/calibration.md's procedure as the
 bench runs it (bench/population.py, on a master of its own, lockstep at
 full speed, ground truth as the tape measure): ``calibrate_linear.py``
 and ``calibrate_angular.py``, their factors set on the driver,

@@ -1,12 +1,14 @@
-"""The README's node table lists exactly the parameters each node reads.
+"""docs/parameters.md is what the nodes' declarations give, and so is --help.
 
 Each node declares every private parameter it reads (``PARAMS``, a tuple of
-rbx1_nav.common.params.Param, read through rbx1_nav.common.node_ros.start_node) and
-lists them for ``--help``, so that list is the truth; the README row of the
-node must name each of them in backticks, and no other. "and the runner's"
-in a row stands for the runner's row, "`NODE.py`'s" for that node's row.
+rbx1_nav.common.params.Param, read through rbx1_nav.common.node_ros.start_node).
+``docs/make_parameters.py`` (``make docs``) writes the page from those
+declarations and the nodes' docstrings, and ``--help`` prints the same
+declarations: the page must be what the generator writes now, and each
+node's ``--help`` must list the parameters of its ``PARAMS``, so neither
+can drift from the code.
 """
-import glob
+import importlib.util
 import os
 import re
 import subprocess
@@ -14,40 +16,39 @@ import subprocess
 import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-NODES = sorted(p for p in glob.glob(os.path.join(ROOT, 'nodes', '*.py'))
-               # plot_course.py: argparse --help; end_launch_on_success.py: a
-               # launch-prefix, unless_running.py: another node's wrapper,
-               # launch_status.py: runs roslaunch; not nodes
-               if not p.endswith(('plot_course.py', 'end_launch_on_success.py',
-                                  'unless_running.py', 'launch_status.py')))
 
 
-def readme_rows():
-    """{first cell: set of backticked names in the last cell} of the table."""
-    rows, others = {}, {}
-    with open(os.path.join(ROOT, 'README.md')) as f:
-        for line in f:
-            cells = [c.strip() for c in line.strip().strip('|').split('|')]
-            if len(cells) == 4 and cells[0].startswith('`') or \
-                    cells[0].startswith('the runner'):
-                names = set(re.findall(r'`([a-z][a-z0-9_]*)`', cells[-1]))
-                if "the runner's" in cells[-1]:
-                    names.add("the runner's")
-                rows[cells[0].strip('`')] = names
-                # "and `fake_turtlebot.py`'s": every parameter of that row
-                others[cells[0].strip('`')] = re.findall(r"`([a-z_]+\.py)`'s",
-                                                         cells[-1])
-    runner = rows.get("the runner's (every node above)", set())
-    for names in rows.values():
-        if "the runner's" in names:
-            names.discard("the runner's")
-            names |= runner
-    for node, names in rows.items():
-        names |= set().union(*(rows.get(other, set()) for other in others[node]))
-    return rows
+def _generator():
+    path = os.path.join(ROOT, 'docs', 'make_parameters.py')
+    spec = importlib.util.spec_from_file_location('_make_parameters', path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
-def declared(path):
+GENERATOR = _generator()
+NODES = GENERATOR.node_files()
+
+
+def test_the_page_is_what_make_docs_writes():
+    with open(GENERATOR.PAGE) as f:
+        page = f.read()
+    assert page == GENERATOR.render(), (
+        'docs/parameters.md is stale: run make docs')
+
+
+def test_every_node_file_is_on_the_page_but_the_helpers():
+    names = {os.path.basename(p) for p in NODES}
+    every = set(os.listdir(os.path.join(ROOT, 'nodes')))
+    assert names == {n for n in every if n.endswith('.py')} - set(GENERATOR.NOT_NODES)
+    assert set(GENERATOR.NOT_NODES) <= every
+    with open(GENERATOR.PAGE) as f:
+        page = f.read()
+    for name in names:
+        assert '\n## `%s`\n' % name in page, name
+
+
+def listed(path):
     """The parameters ``rosrun rbx1_nav NODE --help`` lists."""
     proc = subprocess.run(['rosrun', 'rbx1_nav', os.path.basename(path),
                            '--help'], stdout=subprocess.PIPE,
@@ -57,16 +58,11 @@ def declared(path):
     header = 'Private parameters (rosrun: _name:=value; launch: <param>):'
     assert header in proc.stdout, '%s --help lists no parameters' % path
     table = proc.stdout.split(header, 1)[1]
-    return set(re.findall(r'^  ~([a-z][a-z0-9_]*) ', table, re.M))
+    return re.findall(r'^  ~([a-z][a-z0-9_]*) ', table, re.M)
 
 
 @pytest.mark.parametrize('path', NODES, ids=[os.path.basename(p) for p in NODES])
-def test_readme_row_names_every_parameter_and_no_other(path):
-    node = os.path.basename(path)
-    rows = readme_rows()
-    assert node in rows, 'README.md has no node-table row for %s' % node
-    code, readme = declared(path), rows[node]
-    assert not code - readme, 'read by %s, missing from README.md: %s' % (
-        node, sorted(code - readme))
-    assert not readme - code, 'in README.md, read by no %s: %s' % (
-        node, sorted(readme - code))
+def test_help_lists_the_parameters_of_params(path):
+    declared = [spec.name for spec in GENERATOR.load(path).PARAMS]
+    assert listed(path) == declared, (
+        '%s --help and its PARAMS differ' % os.path.basename(path))

@@ -1,4 +1,4 @@
-"""The fake robot started a second time, as the README's lines invite
+"""The fake robot started a second time, as docs/courses.md's lines invite
 (fake_turtlebot.launch, then a course's launch with sim:=true): the second
 launch says a robot is already up and ends; the first robot, its
 robot_state_publisher among its nodes, goes on, unmoved, and still drives.

@@ -142,37 +142,37 @@ def test_every_rostest_sits_beside_its_script():
     assert not glob.glob(os.path.join(ROOT, 'test', '*.test'))
 
 
-def _readme_layout():
-    """The README's Layout section: {path it names: the text of its bullet}."""
-    with open(os.path.join(ROOT, 'README.md')) as f:
+def _design_layout():
+    """docs/design.md's Layout section: {path it names: the text of its bullet}."""
+    with open(os.path.join(ROOT, 'docs', 'design.md')) as f:
         text = f.read()
     section = text.split('\n## Layout\n', 1)[1].split('\n## ', 1)[0]
     bullets = re.findall(r'^- `([^`]+)`:(.*?)(?=^- |\Z)', section, re.M | re.S)
     return {path: body for path, body in bullets}
 
 
-def test_readme_layout_names_every_module_of_each_subsystem():
+def test_design_layout_names_every_module_of_each_subsystem():
     """Each subsystem's bullet names exactly the modules in its folder."""
-    layout = _readme_layout()
+    layout = _design_layout()
     for sub in SUBSYSTEMS:
         key = 'src/rbx1_nav/%s/' % sub
-        assert key in layout, 'README Layout has no bullet for %s' % key
+        assert key in layout, 'docs/design.md Layout has no bullet for %s' % key
         named = set(re.findall(r'`([a-z_0-9]+)`', layout[key]))
         there = {os.path.basename(p)[:-3]
                  for p in glob.glob(os.path.join(PACKAGE, sub, '*.py'))} - {'__init__'}
-        assert there - named == set(), 'README Layout leaves out %s' % sorted(there - named)
-        assert named - there == set(), 'README Layout names %s, not in %s' % (
+        assert there - named == set(), 'docs/design.md Layout leaves out %s' % sorted(there - named)
+        assert named - there == set(), 'docs/design.md Layout names %s, not in %s' % (
             sorted(named - there), key)
 
 
-def test_readme_layout_names_every_folder_of_test():
-    layout = _readme_layout()
+def test_design_layout_names_every_folder_of_test():
+    layout = _design_layout()
     folders = {'test/%s/' % d for d in os.listdir(os.path.join(ROOT, 'test'))
                if os.path.isdir(os.path.join(ROOT, 'test', d)) and d != '__pycache__'}
-    assert folders - set(layout) == set(), 'README Layout leaves out %s' % sorted(
+    assert folders - set(layout) == set(), 'docs/design.md Layout leaves out %s' % sorted(
         folders - set(layout))
     for path in layout:
-        assert os.path.exists(os.path.join(ROOT, path)), 'README Layout names %s' % path
+        assert os.path.exists(os.path.join(ROOT, path)), 'docs/design.md Layout names %s' % path
 
 
 def test_the_design_cards_top_level_and_the_books_view_paths():

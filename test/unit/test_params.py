@@ -5,8 +5,8 @@ import pytest
 from hypothesis import given, strategies as st
 
 from rbx1_nav.common.params import (POSITIVE, bounds, check_all, command_line, flag, frame,
-                                    integer, leftovers, names, number, number_list, param,
-                                    start_text, text, usage)
+                                    integer, leftovers, markdown, names, number, number_list,
+                                    param, raw, start_text, text, usage)
 
 finite = st.floats(allow_nan=False, allow_infinity=False)
 
@@ -288,6 +288,42 @@ def test_help_lists_each_parameter_once_with_default_and_bounds():
     assert lines[2].split() == ['~precise', 'off', 'slow', 'down', 'near',
                                 'each', 'goal']
 
+
+
+# -- markdown: the docs page's section of a node, from what --help prints ----
+
+DOC = """node.py - drive a node
+somewhere.
+
+Publishes:  cmd_vel
+Exit status: 0 after a completed course.
+"""
+
+
+def test_markdown_gives_the_summary_the_rest_and_a_row_per_parameter():
+    text = markdown('node.py', DOC, CLEAR_SPECS)
+    lines = text.splitlines()
+    assert lines[:4] == ['## `node.py`', '', 'Drive a node somewhere.', '']
+    assert lines[4:8] == ['```text', 'Publishes:  cmd_vel',
+                          'Exit status: 0 after a completed course.', '```']
+    rows = [line for line in lines if line.startswith('| `~')]
+    assert [row.split('|')[1].strip() for row in rows] == [
+        '`~%s`' % spec.name for spec in CLEAR_SPECS]
+    assert rows[0] == '| `~linear_speed` | `0.2` | m/s | forward speed | > 0 and <= 2 |'
+    assert rows[2] == '| `~precise` | `off` |  | slow down near each goal |  |'
+    assert text.endswith('|\n')
+
+
+def test_markdown_escapes_table_bars_and_keeps_bounds_of_a_raw_parameter():
+    specs = [param('mode', 'a|b', text, '', 'a | b'),
+             param('mass', 6.0, raw, 'kg', 'checked elsewhere', minimum=0.0,
+                   maximum=1000.0, allow_zero=False)]
+    rows = [line for line in markdown('n', 'n: one line.', specs).splitlines()
+            if line.startswith('| `~')]
+    assert rows[0] == '| `~mode` | `a\\|b` |  | a \\| b |  |'
+    assert rows[1] == '| `~mass` | `6` | kg | checked elsewhere | > 0 and <= 1000 |'
+    assert raw('~mass', 'x', minimum=0.0) == 'x'
+    assert '```' not in markdown('n', 'n: one line.', specs)
 
 # -- typos: an unknown parameter given to the node stops it ----------------
 

@@ -179,11 +179,12 @@ def node_params(config_type):
     return config_params(config_type) + NODE_PARAMS + common_params(rate=20.0)
 
 
-def main(kind, config_type, doc):
-    """main() of calibrate_<kind>.py (``doc``: its docstring, for --help);
-    returns the exit status."""
+def main(kind, config_type, specs, doc):
+    """main() of calibrate_<kind>.py (``specs``: its parameters,
+    :func:`node_params`; ``doc``: its docstring, for --help); returns the
+    exit status."""
     name = 'calibrate_' + kind.name
-    values = start_node(name, node_params(config_type), doc)
+    values = start_node(name, specs, doc)
     if values is None:
         return 1
     node = CalibrationNode(kind, config_type, values)

@@ -23,7 +23,7 @@ from rbx1_nav.transform_utils import strip_leading_slash
 __all__ = ['number', 'integer', 'flag', 'frame', 'text', 'number_list', 'pairs',
            'names', 'raw', 'POSITIVE', 'Param', 'param', 'read_all', 'describe', 'unknown', 'usage',
            'bounds', 'clear_text', 'check_all', 'unit_text', 'UNIT_NAMES', 'start_text',
-           'command_line', 'leftovers', 'typos']
+           'command_line', 'leftovers', 'typos', 'markdown']
 
 
 def _as_float(name, value):
@@ -103,8 +103,9 @@ def flag(name, value):
     raise ValueError('%s must be true or false, got %.200r' % (name, value))
 
 
-def raw(name, value):
-    """``value`` as given, for a parameter another module checks."""
+def raw(name, value, **options):
+    """``value`` as given, for a parameter another module checks;
+    ``options`` are that module's bounds, kept for --help and the docs."""
     return value
 
 
@@ -285,18 +286,21 @@ def check_all(specs, lookup, node_name):
     return values
 
 
-def describe(specs, values):
-    """'name value unit, ...' for a start-up log line. A value of None reads
+def _shown(value, spec):
+    """A value as a start-up line, --help and the docs show it. None reads
     as its check's ``none_text`` ('max' for a clock speed), else 'none'."""
-    def shown(value, spec):
-        if value is None:
-            return getattr(spec.check, 'none_text', 'none')
-        if isinstance(value, bool):
-            return 'on' if value else 'off'
-        if isinstance(value, float):
-            return '%g' % value
-        return repr(value) if value == '' else str(value)
-    return ', '.join(('%s %s %s' % (s.name, shown(values[s.name], s), s.unit)).strip()
+    if value is None:
+        return getattr(spec.check, 'none_text', 'none')
+    if isinstance(value, bool):
+        return 'on' if value else 'off'
+    if isinstance(value, float):
+        return '%g' % value
+    return repr(value) if value == '' else str(value)
+
+
+def describe(specs, values):
+    """'name value unit, ...' for a start-up log line."""
+    return ', '.join(('%s %s %s' % (s.name, _shown(values[s.name], s), s.unit)).strip()
                      for s in specs)
 
 
@@ -417,3 +421,35 @@ def usage(doc, specs):
                                              + (' [%s]' % limits if limits else ''))
                       ).rstrip())
     return '\n'.join(lines)
+
+
+def _summary(doc):
+    """The first paragraph of a node's docstring, one line, without the
+    'name.py - ' or 'name: ' it may start with."""
+    first = ' '.join((doc or '').strip().split('\n\n', 1)[0].split())
+    first = re.sub(r'^[a-z_]+(\.py)?( -|:) ', '', first)
+    return first[:1].upper() + first[1:]
+
+
+def _cell(text):
+    """``text`` safe in a Markdown table cell."""
+    return text.replace('|', '\\|')
+
+
+def markdown(title, doc, specs):
+    """A node's section of docs/parameters.md, from what --help prints
+    (:func:`usage`): a heading ``title``, the summary from ``doc`` (the
+    node's docstring), the rest of ``doc`` as text, and a table of
+    ``specs``: parameter, default, unit, what it does, bounds."""
+    rest = (doc or '').strip().split('\n\n', 1)[1:]
+    lines = ['## `%s`' % title, '', _summary(doc), '']
+    if rest:
+        lines += ['```text', rest[0].strip('\n'), '```', '']
+    lines += ['| parameter | default | unit | what it does | bounds |',
+              '|---|---|---|---|---|']
+    for spec in specs:
+        limits = bounds(spec)
+        lines.append('| `~%s` | `%s` | %s | %s | %s |' % (
+            spec.name, _cell(_shown(spec.default, spec)), _cell(spec.unit),
+            _cell(spec.doc), _cell(limits)))
+    return '\n'.join(lines) + '\n'

@@ -31,8 +31,8 @@ EXTRA_ANGULAR = 1.0    # rad/s on top
 SLACK_LINEAR = 0.05    # m per update
 SLACK_ANGULAR = 0.1    # rad per update
 
-#: How to give each robot its own transform (README, "Several robots on
-#: one master").
+#: How to give each robot its own transform (docs/sim_time.md, "Several
+#: robots on one master").
 FIX = ('give each robot its own frames (e.g. _odom_frame:=robot1/odom '
        '_base_frame:=robot1/base_footprint for the course, and its robot '
        'publishing those) or its own tf topic (/tf:=tf /tf_static:=tf_static '

@@ -72,73 +72,97 @@ TOPIC_PARAMS = (
 )
 
 
-def _model(name, default, minimum, maximum, allow_zero=False):
-    """A numeric model setting. --help and the start-up line show it without
-    a unit (the comment beside each gives it). The maxima are far beyond any
-    real base but keep the model's arithmetic finite (no inf pose, no
+def _model(name, default, minimum, maximum, unit, doc, allow_zero=False):
+    """A numeric setting of the kinematic model. The maxima are far beyond
+    any real base but keep the model's arithmetic finite (no inf pose, no
     endless loop)."""
-    return param(name, default, number, '', 'model setting, checked by '
-                 'rbx1_nav.sim.diff_drive', minimum=minimum, maximum=maximum,
-                 allow_zero=allow_zero)
+    return param(name, default, number, unit, doc + ' (rbx1_nav.sim.diff_drive)',
+                 minimum=minimum, maximum=maximum, allow_zero=allow_zero)
 
 
 #: The kinematic model's settings (DiffDriveConfig's fields, in order);
 #: the defaults are an ideal TurtleBot.
 DIFF_DRIVE_PARAMS = (
-    _model('wheel_separation', 0.26, 1e-3, 10.0),     # m, between the wheel contact points
-    _model('wheel_radius', 0.033, 1e-3, 10.0),        # m
-    _model('max_linear_speed', 0.5, 0.0, 100.0),      # m/s, larger commands are clamped
-    _model('max_angular_speed', 3.0, 0.0, 100.0),     # rad/s
-    _model('accel_limit_linear', 0.0, 0.0, 1e6, True),   # m/s^2, 0 = unlimited
-    _model('accel_limit_angular', 0.0, 0.0, 1e6, True),  # rad/s^2, 0 = unlimited
-    _model('cmd_timeout', 0.5, 0.0, 1e6),             # s without cmd_vel before stopping
-    _model('command_latency', 0.0, 0.0, 60.0, True),  # s between receipt and execution
-    _model('linear_scale_error', 1.0, 0.0, 100.0),    # odometry distance / true distance
-    _model('angular_scale_error', 1.0, 0.0, 100.0),   # odometry rotation / true rotation
-    _model('odom_linear_scale_correction', 1.0, 0.0, 100.0),   # driver calibration factor
-    _model('odom_angular_scale_correction', 1.0, 0.0, 100.0),  # driver calibration factor
-    _model('left_wheel_radius_error', 1.0, 0.0, 100.0),   # true radius / nominal radius
-    _model('right_wheel_radius_error', 1.0, 0.0, 100.0),  # true radius / nominal radius
+    _model('wheel_separation', 0.26, 1e-3, 10.0, 'm',
+           'between the wheel contact points'),
+    _model('wheel_radius', 0.033, 1e-3, 10.0, 'm', 'of both wheels, nominal'),
+    _model('max_linear_speed', 0.5, 0.0, 100.0, 'm/s',
+           'larger commands are clamped'),
+    _model('max_angular_speed', 3.0, 0.0, 100.0, 'rad/s',
+           'larger commands are clamped'),
+    _model('accel_limit_linear', 0.0, 0.0, 1e6, 'm/s^2', '0 = unlimited',
+           allow_zero=True),
+    _model('accel_limit_angular', 0.0, 0.0, 1e6, 'rad/s^2', '0 = unlimited',
+           allow_zero=True),
+    _model('cmd_timeout', 0.5, 0.0, 1e6, 's', 'without cmd_vel before stopping'),
+    _model('command_latency', 0.0, 0.0, 60.0, 's',
+           'between receipt and execution', allow_zero=True),
+    _model('linear_scale_error', 1.0, 0.0, 100.0, '',
+           'odometry distance / true distance'),
+    _model('angular_scale_error', 1.0, 0.0, 100.0, '',
+           'odometry rotation / true rotation: a wheel base that is off'),
+    _model('odom_linear_scale_correction', 1.0, 0.0, 100.0, '',
+           "the driver's linear calibration factor"),
+    _model('odom_angular_scale_correction', 1.0, 0.0, 100.0, '',
+           "the driver's angular calibration factor"),
+    _model('left_wheel_radius_error', 1.0, 0.0, 100.0, '',
+           'true radius / nominal radius'),
+    _model('right_wheel_radius_error', 1.0, 0.0, 100.0, '',
+           'true radius / nominal radius'),
     # The driver-side corrections under diff_drive_controller's names. Its
     # odometry uses them; the physics robot's driver also turns cmd_vel
     # into wheel speeds with them, as diff_drive_controller does (the
     # kinematic robot's base runs cmd_vel exactly, whatever its wheels):
-    _model('left_wheel_radius_multiplier', 1.0, 0.0, 100.0),
-    _model('right_wheel_radius_multiplier', 1.0, 0.0, 100.0),
-    _model('wheel_separation_multiplier', 1.0, 0.0, 100.0),
-    _model('encoder_noise', 0.0, 0.0, 1.0, True),     # m per sqrt(m) of wheel travel (1 sigma)
-    _model('gyro_noise_density', 0.0, 0.0, 10.0, True),  # rad/s/sqrt(Hz) white rate noise
-    _model('gyro_bias', 0.0, -10.0, 10.0, True),      # rad/s constant rate offset
-    param('seed', None, optional_integer, '',         # None: fresh random noise each run
-          'model setting, checked by rbx1_nav.sim.diff_drive', minimum=0),
+    _model('left_wheel_radius_multiplier', 1.0, 0.0, 100.0, '',
+           "diff_drive_controller's correction"),
+    _model('right_wheel_radius_multiplier', 1.0, 0.0, 100.0, '',
+           "diff_drive_controller's correction"),
+    _model('wheel_separation_multiplier', 1.0, 0.0, 100.0, '',
+           "diff_drive_controller's correction"),
+    _model('encoder_noise', 0.0, 0.0, 1.0, 'm/sqrt(m)',
+           'per sqrt(m) of wheel travel (1 sigma)', allow_zero=True),
+    _model('gyro_noise_density', 0.0, 0.0, 10.0, 'rad/s/sqrt(Hz)',
+           'white rate noise', allow_zero=True),
+    _model('gyro_bias', 0.0, -10.0, 10.0, 'rad/s', 'constant rate offset',
+           allow_zero=True),
+    param('seed', None, optional_integer, '',
+          'of the noise; none: fresh random noise each run '
+          '(rbx1_nav.sim.diff_drive)', minimum=0),
 )
 
 
-def _physical(name, default, minimum, maximum, allow_zero=False):
-    """A numeric physics robot setting (shown as :func:`_model`'s are)."""
-    return param(name, default, number, '', 'physics robot setting, checked '
-                 'by rbx1_nav.sim.physics', minimum=minimum, maximum=maximum,
-                 allow_zero=allow_zero)
+def _physical(name, default, minimum, maximum, unit, doc, allow_zero=False):
+    """A numeric physics robot setting."""
+    return param(name, default, number, unit, doc + ' (rbx1_nav.sim.physics)',
+                 minimum=minimum, maximum=maximum, allow_zero=allow_zero)
 
 
 #: The physics robot's own settings (PhysicsConfig's fields beyond
 #: DiffDriveConfig's, in order).
 PHYSICS_PARAMS = (
     param('floor', 'carpet', floor_name, '',  # rbx1_nav.sim.floors.FLOORS
-          'physics robot setting, checked by rbx1_nav.sim.physics'),
-    _physical('mass', 6.0, 0.0, 1000.0),               # kg, the URDF's: base 5.8, wheels 0.1 each
-    _physical('wheel_separation_error', 1.0, 0.0, 100.0),  # true / nominal separation
-    _physical('motor_torque', 0.1, 0.0, 100.0),        # N m, each wheel's torque limit
-    _physical('motor_deadband', 0.2, 0.0, 1000.0, True),  # rad/s, slower wheel commands stay 0
-    _physical('max_wheel_speed', 20.0, 0.0, 1000.0),   # rad/s, the motors' speed limit
-    _physical('encoder_ticks', 508.8, 1.0, 1e7),       # per revolution (an iRobot Create's)
+          'carpet or tile (rbx1_nav.sim.physics)'),
+    _physical('mass', 6.0, 0.0, 1000.0, 'kg',
+              "the whole robot (the URDF's: base 5.8, wheels 0.1 each); "
+              'its inertias scale with it'),
+    _physical('wheel_separation_error', 1.0, 0.0, 100.0, '',
+              'true / nominal separation'),
+    _physical('motor_torque', 0.1, 0.0, 100.0, 'N m',
+              "each wheel's torque limit"),
+    _physical('motor_deadband', 0.2, 0.0, 1000.0, 'rad/s',
+              'slower wheel commands stay 0', allow_zero=True),
+    _physical('max_wheel_speed', 20.0, 0.0, 1000.0, 'rad/s',
+              "the motors' speed limit"),
+    _physical('encoder_ticks', 508.8, 1.0, 1e7, '',
+              "per revolution (an iRobot Create's)"),
 )
 
 
 def _as_given(spec):
     """``spec`` read without a check: the model checks the value against
-    ``spec`` itself when it is made, and only if it is the model asked for."""
-    return spec._replace(check=raw, options={})
+    ``spec`` itself when it is made, and only if it is the model asked for.
+    Its bounds stay for --help and the docs."""
+    return spec._replace(check=raw)
 
 
 #: The private parameters of one fake robot (fake_turtlebot.py; fake_fleet.py
