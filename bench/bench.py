@@ -59,7 +59,7 @@ POSE_EKF_SPEED = '5'
 #: (m, deg) a course on a physics robot of a fleet must end within to hold
 #: 1x: about twice the error of one uncalibrated physics robot on carpet.
 PHYSICS_LIMITS = (0.05, 5.0)
-#: Targets shown beside each row (GUIDE and issue 12).
+#: Targets shown beside each row (the GUIDE's).
 TARGETS = {
     'default': 'within 20 mm, 2.5 deg (ideal)',
     'precise': 'within 3 mm, 0.3 deg (ideal)',

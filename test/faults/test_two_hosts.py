@@ -75,8 +75,8 @@ def within(error):
 class Lines(object):
     """A process's output lines, each with the wall time it arrived. Once
     the process has ended, reading them waits for the last (its reader
-    may be behind the process's exit on a loaded machine: the line a node
-    writes just before it exits was missed once, CI run 81)."""
+    may be behind the process's exit on a loaded machine, and the line a
+    node writes just before it exits must not be missed)."""
 
     def __init__(self, proc):
         self.proc, self._lines = proc, []

@@ -258,8 +258,8 @@ class FakeRobot(object):
 
     def __init__(self, settings):
         rospy.set_param('/fake_turtlebot', settings)
-        # Its output kept beside the run's other logs, for a robot that
-        # exits early (seen once: it left lockstep before a course began).
+        # Its output kept beside the run's other logs, so a robot that
+        # exits early (leaving lockstep before a course began) says why.
         self.log = tempfile.NamedTemporaryFile(
             prefix='fake_turtlebot_', suffix='.log', delete=False,
             dir=rospkg.get_log_dir() if os.path.isdir(rospkg.get_log_dir()) else None)

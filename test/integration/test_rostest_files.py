@@ -29,8 +29,8 @@ ALL_FILES = sorted(glob.glob(os.path.join(TEST_DIR, 'rostest', '*.test'))
 BESIDE = '<!-- beside other tests: every timed node is a lockstep member -->'
 NO_CLOCK = ('<!-- beside other tests: no simulated clock, and its wall-clock waits '
             'are deadlines, not measurements -->')
-#: Two RViz at once on a loaded machine have crashed one of them (an abort
-#: inside RViz; a SIGSEGV at its start, CI runs 52 and 72).
+#: Two RViz at once on a loaded machine can crash one of them (an abort
+#: inside RViz, or a SIGSEGV at its start).
 RVIZ = '<!-- starts RViz: one RViz at a time, in the xdist group rviz -->'
 
 

@@ -21,7 +21,7 @@ from rbx1_nav.transform_utils import normalize_angle  # noqa: E402
 ROTATION = husky.MODES['gps_frame_rotation']
 EPS_TRANS = 0.1  # m, robot_pose_ekf's test, per axis
 EPS_QUATERNION = 0.005  # robot_pose_ekf's test, on quaternion z and w
-AGREE_M, AGREE_DEG = 0.01, 0.2  # started late (issue 24)
+AGREE_M, AGREE_DEG = 0.01, 0.2  # one run started late against another
 
 
 @pytest.fixture(scope='module')

@@ -359,7 +359,7 @@ def test_gps_frame_rotation_needs_a_positive_prior():
 def test_gps_mode_survives_every_sensor_lost_and_back(gps_frame_rotation):
     """A driver that dies and comes back: every sensor silent (dropped
     after 5 sensor timeouts of all-round silence), then back: the filter
-    re-bases them and goes on (it used to fail on the returning odometry)."""
+    re-bases them and goes on, the returning odometry included."""
     robot = Robot(GyroOdomFusion(gps_used=True, sensor_timeout=1.5,
                                  gps_frame_rotation=gps_frame_rotation),
                   linear_scale=1.03)

@@ -1,5 +1,6 @@
-"""pose_ekf's odometry + IMU poses are those of the filter before issue 24
-(commit fbacc7c) within 1 mm and 0.1 deg: only the covariances changed.
+"""pose_ekf's odometry + IMU poses are those of the filter at commit
+fbacc7c within 1 mm and 0.1 deg: what the screening of unmeasured
+variances changes is the covariances, not the poses.
 
 The fixture test/data/pose_ekf_fbacc7c.npz holds, for two recorded runs,
 the odometry and IMU messages as the node reads them and the poses the

@@ -57,9 +57,9 @@ def refuse_misdirected_shutdowns():
     sends the old node a shutdown request at the address it registered. If
     the old node ended without unregistering (killed, or gone while the
     master was slow to answer), another node may have been given its port
-    since, and that node shuts down instead (ros/ros_comm#2241): seen in
-    the population bench, where a simulator had the port of an earlier
-    calibrate_linear and died as the next one started. A request naming
+    since, and that node shuts down instead (ros/ros_comm#2241): a
+    simulator given the port of an earlier calibration node would die as
+    the next one started under that name. A request naming
     this node, and any other (``rosnode kill``), is obeyed as before.
     """
     obey = ROSHandler.shutdown

@@ -2,7 +2,7 @@
 to and publishes), its status (the node's ``~get_status``), the warning for
 a used sensor that never sent anything, and the error while another node
 publishes the same transform (rbx1_nav.common.tf_publishers.OtherPublisherWatch
-spots it; imported here, where it was first). No rospy here.
+spots it). No rospy here.
 """
 import numpy as np
 
