@@ -21,14 +21,17 @@ package the Makefile installs. No master is needed: the launch files are
 read with xml.etree, a node's parameters from its file.
 """
 import glob
-import importlib.util
 import os
+import sys
 import re
 import shlex
 import shutil
 import xml.etree.ElementTree as ET
 
 import pytest
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'helpers'))
+import parameters_page  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SHELL_WORDS = {'cd', 'export', 'source', 'mkdir', 'mv', 'sudo', 'git', 'make', 'python3'}
@@ -94,15 +97,7 @@ def launch_args(path):
     return names
 
 
-def _generator():
-    path = os.path.join(ROOT, 'docs', 'make_parameters.py')
-    spec = importlib.util.spec_from_file_location('_make_parameters', path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-GENERATOR = _generator()
+GENERATOR = parameters_page.load()
 _PARAMS = {}
 
 

@@ -8,25 +8,20 @@ declarations: the page must be what the generator writes now, and each
 node's ``--help`` must list the parameters of its ``PARAMS``, so neither
 can drift from the code.
 """
-import importlib.util
 import os
+import sys
 import re
 import subprocess
 
 import pytest
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'helpers'))
+import parameters_page  # noqa: E402
+
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
-def _generator():
-    path = os.path.join(ROOT, 'docs', 'make_parameters.py')
-    spec = importlib.util.spec_from_file_location('_make_parameters', path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-GENERATOR = _generator()
+GENERATOR = parameters_page.load()
 NODES = GENERATOR.node_files()
 
 
