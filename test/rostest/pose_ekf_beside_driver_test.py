@@ -17,7 +17,7 @@ from geometry_msgs.msg import PoseWithCovarianceStamped
 from std_srvs.srv import Trigger
 from tf2_msgs.msg import TFMessage
 
-START_LINE = ': output_frame '  # the start-up line with the parameters
+START_LINE = 'at its default (--help lists them)'  # the start-up line
 CONFLICT = 'also publishes the transform'
 # rospy's console format: "[LEVEL] [wall]: text" or "[LEVEL] [wall, ros]: text".
 LOG_LINE = re.compile(r'^\[\s*(\w+)\]\s*\[([\d.]+)(?:,\s*([\d.]+))?\]:\s?(.*)$')
