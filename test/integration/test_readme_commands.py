@@ -29,6 +29,7 @@ import shutil
 import xml.etree.ElementTree as ET
 
 import pytest
+import yaml
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'helpers'))
 import parameters_page  # noqa: E402
@@ -102,13 +103,25 @@ _PARAMS = {}
 
 
 def node_params(node):
-    """The names of the private parameters ``node`` (a file in nodes/)
-    declares; none for the helpers, which take none."""
+    """The private parameters ``node`` (a file in nodes/) declares, by
+    name; none for the helpers, which take none."""
     if node not in _PARAMS:
         path = os.path.join(ROOT, 'nodes', node)
-        _PARAMS[node] = (set() if node in GENERATOR.NOT_NODES else
-                         {spec.name for spec in GENERATOR.load(path).PARAMS})
+        _PARAMS[node] = ({} if node in GENERATOR.NOT_NODES else
+                         {spec.name: spec for spec in GENERATOR.load(path).PARAMS})
     return _PARAMS[node]
+
+
+def value_problem(spec, text):
+    """Why the node would refuse ``_name:=text`` (rospy reads the text as
+    YAML, as here), or None; a value with '...' in it is a placeholder."""
+    if '...' in text:
+        return None
+    try:
+        spec.check('~' + spec.name, yaml.safe_load(text), **spec.options)
+    except ValueError as err:
+        return str(err)
+    return None
 
 
 def launch_problems(package, launch, args):
@@ -153,8 +166,11 @@ def problems(line):
             if name not in SPECIAL:
                 found.append('%s is not a rospy special argument' % name)
         elif name.startswith('_'):
-            if name[1:] not in node_params(node):
+            spec = node_params(node).get(name[1:])
+            if spec is None:
                 found.append('%s declares no parameter ~%s' % (node, name[1:]))
+            elif value_problem(spec, arg.partition(':=')[2]):
+                found.append(value_problem(spec, arg.partition(':=')[2]))
         elif not NAME.match(name):
             found.append('%s is not a name to remap' % name)
     return found
@@ -190,6 +206,9 @@ def test_the_checks_catch_a_wrong_arg_parameter_node_and_test_file():
     assert problems('rosrun rbx1_nav nav_square.py _precise:=true cmd_vel:=a/b __ns:=r1') == []
     assert problems('rosrun rbx1_nav nav_square.py _gaol_distance:=1') == [
         'nav_square.py declares no parameter ~gaol_distance']
+    assert problems('rosrun rbx1_nav odom_out_and_back.py _goal_angle:=180 _precise:=maybe') == [
+        '~goal_angle must be >= -12.5664 and <= 12.5664, got 180',
+        "~precise must be true or false, got 'maybe'"]
     assert problems('rosrun rbx1_nav plot_course.py course.bag -o course.png') == []
     assert problems('rosrun rbx1_nav no_such.py') == ['no node no_such.py in nodes/']
     assert problems('rosrun rbx1_nav launch_status.py rbx1_nav nav_square.launch sim:=1 x:=2') == [
