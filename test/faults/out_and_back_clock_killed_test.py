@@ -19,7 +19,7 @@ import rostest
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from course_harness import (CourseProcess, RobotWatch, kill_node,  # noqa: E402
-                            is_zero, wait_under_way)
+                            is_zero, launched_node_status, wait_under_way)
 from rbx1_nav.common import lockstep_member_ros as lockstep  # noqa: E402
 from rbx1_nav.common.node_ros import SHUTDOWN_LIMIT  # noqa: E402
 
@@ -71,6 +71,10 @@ class ClockKilledTest(unittest.TestCase):
         self.assertLess(took, exit_within, course.output)
         self.assertTrue(last is not None and is_zero(last),
                         'last cmd_vel was %s' % last)
+        # sim_clock, killed, does not take its own connections closing for
+        # its members leaving.
+        _, clock_log = launched_node_status('sim_clock')
+        self.assertNotIn('without a word', clock_log)
 
 
 if __name__ == '__main__':

@@ -203,8 +203,12 @@ class TimeOwner(object):
         self.current = (time_ns, resend_at, warn_at)
 
     def _drop_disconnected(self):
-        """Members whose report connection closed (the node died) leave."""
+        """Members whose report connection closed (the node died) leave.
+        Not while this node shuts down: rospy closes its connections then,
+        after is_shutdown() turns true, and no member has gone."""
         connected = {c.callerid_pub for c in self.sub.impl.connections}
+        if rospy.is_shutdown():
+            return
         members = set(self.owner.members)
         self.seen |= connected & members
         # A member that just joined may not have its connection listed yet.
