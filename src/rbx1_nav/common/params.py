@@ -415,7 +415,7 @@ def usage(doc, specs):
              'Private parameters (rosrun: _name:=value; launch: <param>):']
     width = max([len(spec.name) for spec in specs] + [4])
     for spec in specs:
-        default = describe([spec], {spec.name: spec.default})[len(spec.name) + 1:]
+        default = ('%s %s' % (_shown(spec.default, spec), spec.unit)).strip()
         limits = bounds(spec)
         lines.append(('  ~%-*s  %-18s %s' % (width, spec.name, default, spec.doc
                                              + (' [%s]' % limits if limits else ''))
