@@ -193,14 +193,15 @@ def test_the_design_cards_top_level_and_the_books_view_paths():
 def test_a_course_nodes_help_says_truly_which_parameters_are_the_runners():
     """Each course node's docstring says '~rate and every one after it are
     the runner's': so they are."""
-    import importlib.util
+    import sys
+    sys.path.insert(0, os.path.join(ROOT, 'test', 'helpers'))
+    import parameters_page
     from rbx1_nav.motion.runner_ros import common_params
     runner = [spec.name for spec in common_params(rate=10)]
     assert runner[0] == 'rate'
+    load = parameters_page.load().load
     for node in ('odom_out_and_back.py', 'nav_square.py', 'timed_out_and_back.py'):
-        spec = importlib.util.spec_from_file_location(node[:-3], os.path.join(ROOT, 'nodes', node))
-        module = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(module)
+        module = load(os.path.join(ROOT, 'nodes', node))
         assert "~rate and every one after it\nare the runner's" in module.__doc__, node
         names = [p.name for p in module.PARAMS]
         assert names[names.index('rate'):] == runner, node
