@@ -252,10 +252,7 @@ class CourseGuardsTest(unittest.TestCase):
         commands = Commands('cmd_vel')
         start = watch.wait_for_truth()
         course = CourseProcess(params=dict(SHORT, goal_distnace=0.2))
-        try:
-            status = course.wait()
-        finally:
-            course.cleanup()
+        status = course.finish()
         out = course.output
         line = self.one_error_line(course, 'unknown parameter')
         print('RESULT typo exit=%d: %s' % (status, line))
@@ -277,10 +274,7 @@ class CourseGuardsTest(unittest.TestCase):
         # a warning, and the course runs (a short one).
         leftover = CourseProcess(name='leftover', leftovers={'goal_distnace': 0.2},
                                  params=dict(SHORT, goal_distance=0.1, goal_angle=0.3))
-        try:
-            status = leftover.wait()
-        finally:
-            leftover.cleanup()
+        status = leftover.finish()
         print('RESULT typo left on the master: exit %d' % status)
         self.assertEqual(status, 0, leftover.output)
         self.assertIn('unknown parameter ~goal_distnace is ignored (did you mean '

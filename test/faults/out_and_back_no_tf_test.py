@@ -28,10 +28,7 @@ class NoTfTest(unittest.TestCase):
         grace = float(rospy.get_param('~grace'))
         watch = RobotWatch()
         course = CourseProcess(params={'tf_wait': tf_wait})
-        try:
-            status = course.wait()
-        finally:
-            course.cleanup()
+        status = course.finish()
         out = course.output
         self.assertEqual(status, 1, out)
         began = course.wall_time_of('Waiting up to')

@@ -242,6 +242,13 @@ class CourseProcess(object):
         self.reader.join(5.0)
         return self.proc.returncode
 
+    def finish(self, wall_limit=WALL_LIMIT):
+        """:meth:`wait`, then :meth:`cleanup` whatever happened; the status."""
+        try:
+            return self.wait(wall_limit)
+        finally:
+            self.cleanup()
+
     def interrupt(self):
         """Ctrl-C, as a user at the terminal would."""
         self.proc.send_signal(signal.SIGINT)

@@ -58,10 +58,7 @@ class FakeTurtlebotLeftoversTest(unittest.TestCase):
 
     def test_a_course_says_so_once_and_gives_up(self):
         course = CourseProcess(params={'tf_wait': 1.0})
-        try:
-            status = course.wait()
-        finally:
-            course.cleanup()
+        status = course.finish()
         out = course.output
         self.assertEqual(status, 1, out)
         lines = [line for line in course.lines if 'publishes /clock' in line]
