@@ -100,15 +100,13 @@ class Lines(object):
                 return when, line
         return None
 
-    def wait_for(self, pattern, limit):
-        end = time.monotonic() + limit
-        while time.monotonic() < end:
-            found = self.first(pattern)
-            if found:
-                return found
-            time.sleep(0.02)
-        raise AssertionError('no line matching %r in %.0f s:\n%s' % (
-            pattern, limit, self.text()))
+    def wait_for(self, pattern, limit=None):
+        """The first line matching ``pattern``, waited for while the
+        process lives (see :func:`come_up`)."""
+        found = []
+        come_up(lambda: found.append(self.first(pattern)) or found[-1], [self],
+                'a line matching %r' % pattern, limit)
+        return found[-1]
 
     def text(self):
         return '\n'.join(line for _, line in self.lines)
@@ -162,19 +160,41 @@ def hosts():
         made.close()
 
 
+#: Wall seconds a start-up wait lasts at most: a guard against a hang, far
+#: beyond what a loaded machine takes. A wait fails at once when a process
+#: it waits for ends instead.
+START_GUARD = 300.0
+
+
+def come_up(ready, procs, what, guard=None):
+    """Wait until ``ready()``, while every process of ``procs`` (Lines)
+    lives: fail at once, naming the one that ended, or after ``guard`` s
+    (START_GUARD by default). Returns the seconds it took."""
+    guard = START_GUARD if guard is None else guard
+    began = time.monotonic()
+    while not ready():
+        took = time.monotonic() - began
+        for lines in procs:
+            if lines.proc.poll() is not None and not ready():
+                raise AssertionError('%s: %s ended (status %s) after %.1f s:\n%s' % (
+                    what, ' '.join(lines.proc.args), lines.proc.returncode, took,
+                    lines.text()))
+        assert took < guard, '%s: not in %.0f s (a hang guard):\n%s' % (
+            what, took, '\n'.join(lines.text() for lines in procs))
+        time.sleep(0.02)
+    return time.monotonic() - began
+
+
 def start_robot(hosts):
     """Master, fake robot and a ground-truth recorder on the robot host;
     returns the recorder's and the robot's output lines."""
     pipe = dict(stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True)
     core = Lines(hosts.run('robot', ['roscore', '-p', str(link.MASTER_PORT)], **pipe))
-    core.wait_for('started core service', 30)
+    core.wait_for('started core service')
     robot = Lines(hosts.run('robot', ['rosrun', 'rbx1_nav', 'fake_turtlebot.py'], **pipe))
     truth = Lines(hosts.run('robot', ['rostopic', 'echo', '-p',
                                       '/ground_truth/pose/pose'], **pipe))
-    deadline = time.monotonic() + 30
-    while position(truth) is None:
-        assert time.monotonic() < deadline, 'no ground_truth:\n' + truth.text()
-        time.sleep(0.05)
+    come_up(lambda: position(truth) is not None, [robot, truth], 'ground_truth')
     return truth, robot
 
 
@@ -282,7 +302,7 @@ def test_precise_mode_over_a_200ms_link_ends_at_its_start_and_names_the_age(host
     proc, course = start_course(hosts, *PRECISE)
     # Slow from the course's start: start-up's many master calls would
     # each take the 0.4 s round trip too.
-    course.wait_for('Following tf', 30)
+    course.wait_for('Following tf')
     hosts.set(delay=0.2)
     status = proc.wait(90.0)
     time.sleep(0.5)  # the ground truth of the stopped robot, over the link
@@ -351,16 +371,14 @@ def start_fleet(hosts, robots):
     host; returns the recorder's lines (``R x y yaw`` at each change)."""
     pipe = dict(stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True)
     core = Lines(hosts.run('robot', ['roscore', '-p', str(link.MASTER_PORT)], **pipe))
-    core.wait_for('started core service', 30)
-    hosts.run('robot', ['rosrun', 'rbx1_nav', 'fake_fleet.py',
-                        '_robots:=[%s]' % ', '.join(robots)], **pipe)
+    core.wait_for('started core service')
+    fleet = Lines(hosts.run('robot', ['rosrun', 'rbx1_nav', 'fake_fleet.py',
+                                      '_robots:=[%s]' % ', '.join(robots)], **pipe))
     echo = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir,
                         'helpers', 'truth_echo.py')
     truth = Lines(hosts.run('robot', [sys.executable, echo] + robots, **pipe))
-    deadline = time.monotonic() + 30
-    while {line.split()[0] for _, line in truth.lines} != set(robots):
-        assert time.monotonic() < deadline, 'no ground truth of every robot:\n' + truth.text()
-        time.sleep(0.05)
+    come_up(lambda: {line.split()[0] for _, line in truth.lines} == set(robots),
+            [fleet, truth], 'the ground truth of every robot')
     return truth
 
 
@@ -441,7 +459,7 @@ def test_twenty_percent_loss_precise_courses_ride_it_out(hosts):
             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True)
         courses.append((robot, proc, Lines(proc)))
     for _, _, course in courses:
-        course.wait_for('Following tf', 60)
+        course.wait_for('Following tf')
     hosts.set(loss=0.2)
     results = []
     for robot, proc, course in courses:
@@ -553,13 +571,10 @@ def start_turtlebot2(hosts, export, **corrections):
         setup = on_host(hosts, 'robot', export, 'rosparam set /fake_turtlebot/%s %r'
                         % (name, value))
         assert setup.wait(60) == 0, setup.stdout.read()
-    Lines(on_host(hosts, 'robot', export, 'rosrun rbx1_nav fake_turtlebot.py '
-                  'cmd_vel:=mobile_base/commands/velocity'))
+    driver = Lines(on_host(hosts, 'robot', export, 'rosrun rbx1_nav fake_turtlebot.py '
+                           'cmd_vel:=mobile_base/commands/velocity'))
     truth = Lines(on_host(hosts, 'robot', export, 'rostopic echo -p /ground_truth/pose/pose'))
-    deadline = time.monotonic() + 120
-    while position(truth) is None:
-        assert time.monotonic() < deadline, 'no ground_truth:\n' + truth.text()
-        time.sleep(0.05)
+    come_up(lambda: position(truth) is not None, [driver, truth], 'ground_truth')
     return truth
 
 
@@ -569,13 +584,13 @@ def calibrate(hosts, export, run, answer, measure, truth):
     tape or the protractor); returns the printed factor."""
     node = Lines(on_host(hosts, 'workstation', export, run))
     start = planar(echoed(truth))
-    node.wait_for('odometry says', 120)
+    node.wait_for('odometry says')
     time.sleep(1.0)  # the still robot's truth, over the link
     value = measure(start, planar(echoed(truth)))
     said = on_host(hosts, 'workstation', export,
                    re.sub(r'[\d.]+$', '%.4f' % value, answer))
     assert said.wait(60) == 0, said.stdout.read()
-    _, line = node.wait_for(r'scale_correction = measured / odometry = \S+ / \S+ = \S+', 60)
+    _, line = node.wait_for(r'scale_correction = measured / odometry = \S+ / \S+ = \S+')
     factor = float(line.split()[-1])
     link.kill_tree(node.proc.pid, 2)  # Ctrl-C, as the user ends it
     assert node.proc.wait(30) == 0, node.text()
@@ -598,7 +613,7 @@ def test_the_readmes_real_robot_lines_on_a_turtlebot2_over_two_hosts(hosts):
     assert 'calibrate_angular.py' in angular and 'measured_angle' in angle
     assert '_precise:=true' in course and 'cmd_vel:=/mobile_base/commands/velocity' in course
     core = Lines(on_host(hosts, 'robot', robot_export, 'roscore -p %d' % link.MASTER_PORT))
-    core.wait_for('started core service', 60)
+    core.wait_for('started core service')
     truth = start_turtlebot2(hosts, robot_export)
 
     linear_factor = calibrate(hosts, laptop_export, linear, distance,
