@@ -38,11 +38,15 @@ workspace first, as `make bench` does), e.g.
     python3 bench/determinism.py --tests courses.test umbmark.test
     python3 bench/determinism.py            # every file: slow
 
+Before and after a change, on one machine: ``--save before.json`` at the
+old commit (each test once), then ``--against before.json`` at the new one.
+
 Prints, per test, "same" or the figures that differ (idle, loaded), and a
 summary table; ``--out FILE`` writes the same as markdown.
 """
 import argparse
 import glob
+import json
 import os
 import re
 import shutil
@@ -180,7 +184,18 @@ def main():
     parser.add_argument('--burners', type=int, default=2,
                         help='CPU burners (yes > /dev/null) beside the loaded run')
     parser.add_argument('--out', help='also write the report, as markdown, here')
+    parser.add_argument('--save', metavar='JSON',
+                        help="write each test's figures (its idle run) here, for --against")
+    parser.add_argument('--against', metavar='JSON',
+                        help='compare each test once, as it is, with the figures --save '
+                             'wrote at another commit, instead of idle against loaded: '
+                             'a change that keeps lockstep deterministic keeps them all')
+    # --save runs each test once and compares nothing.
     args = parser.parse_args()
+    saved = {}
+    if args.against:
+        with open(args.against) as f:
+            saved = json.load(f)
     tests = rostest_files(args.tests)
     if not tests:
         sys.exit('determinism: no .test file matches %r' % args.tests)
@@ -190,18 +205,34 @@ def main():
         print(line, flush=True)
         report.append(line)
 
-    say('# Figures idle and beside %d CPU burners' % args.burners)
+    say('# Figures against %s' % args.against if args.against else
+        '# Figures idle and beside %d CPU burners' % args.burners)
     say()
     say('%s, `python3 bench/determinism.py%s`, %d cores, load average %.2f at the start.'
         % (time.strftime('%Y-%m-%d %H:%M'), ''.join(' ' + a for a in sys.argv[1:]),
            os.cpu_count(), os.getloadavg()[0]))
     for test in tests:
-        idle = run_rostest(test)
-        burners = start_burners(args.burners)
-        try:
+        if args.against:  # the saved run is "idle", this one "loaded"
+            if test not in saved:
+                say()
+                say('## %s: not in %s' % (test, args.against))
+                continue
+            idle = (True, 0.0, saved[test], '', 0.0)
             loaded = run_rostest(test)
-        finally:
-            kill(burners)
+        else:
+            idle = run_rostest(test)
+            if args.save:  # one run, kept for a later --against
+                saved[test] = idle[2]
+                with open(args.save, 'w') as f:
+                    json.dump(saved, f, indent=1)
+                say('%s: %s, %d figures saved' % (test, 'pass' if idle[0] else 'FAIL',
+                                                  len(figures(sum(idle[2].values(), [])))))
+                continue
+            burners = start_burners(args.burners)
+            try:
+                loaded = run_rostest(test)
+            finally:
+                kill(burners)
         same, differ, wall, only_idle, only_loaded = compare(idle[2], loaded[2])
         runs = 'idle %s %.1f s (load %.1f), loaded %s %.1f s (load %.1f)' % (
             'pass' if idle[0] else 'FAIL', idle[1], idle[4],
