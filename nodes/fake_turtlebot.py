@@ -17,7 +17,7 @@ Publishes:   odom (nav_msgs/Odometry), tf odom_frame -> base_frame, static
              ~ground_truth_frame plus white noise of ~gps_noise m (1 sigma),
              at ~gps_rate Hz, with variance ~gps_noise^2; seeded by ~seed)
 Lockstep:    under /lockstep, subscribes /lockstep_grant and publishes
-             /lockstep_report (rbx1_nav.common.lockstep_member_ros)
+             /lockstep_report (rbx1_nav.sim_time.member_ros)
 Parameters:  rbx1_nav.sim.params.PARAMS (--help lists them), every field
              of rbx1_nav.sim.diff_drive.DiffDriveConfig among them (bounds in
              rbx1_nav.sim.params) and, with ~physics, of

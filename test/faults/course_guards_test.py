@@ -40,8 +40,8 @@ from nav_msgs.msg import Odometry
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from course_harness import (CourseProcess, RosoutWatch, RobotWatch,  # noqa: E402
                             is_zero, launched_node_status, wait_sim, wait_until)
-from rbx1_nav.common import lockstep_member_ros as lockstep  # noqa: E402
-from rbx1_nav.common.lockstep_member import ALIGN, aligned  # noqa: E402
+from rbx1_nav.sim_time import member_ros as lockstep  # noqa: E402
+from rbx1_nav.sim_time.member import ALIGN, aligned  # noqa: E402
 from rbx1_nav.common.publish_ros import to_ns  # noqa: E402
 
 #: A short course: one leg.

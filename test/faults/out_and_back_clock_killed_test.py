@@ -20,7 +20,7 @@ import rostest
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from course_harness import (CourseProcess, RobotWatch, kill_node,  # noqa: E402
                             is_zero, launched_node_status, wait_under_way)
-from rbx1_nav.common import lockstep_member_ros as lockstep  # noqa: E402
+from rbx1_nav.sim_time import member_ros as lockstep  # noqa: E402
 from rbx1_nav.common.node_ros import SHUTDOWN_LIMIT  # noqa: E402
 
 EXIT = 1.0  # wall s for the interpreter to exit once rospy is shut down

@@ -14,7 +14,7 @@ import random
 import pytest
 
 from rbx1_nav.sim_time.lockstep import Owner
-from rbx1_nav.common.lockstep_member import (ALIGN, BACK, HANDLE, NO_TICK, REPEAT, STALE,
+from rbx1_nav.sim_time.member import (ALIGN, BACK, HANDLE, NO_TICK, REPEAT, STALE,
                                              Follower, Inbox, MessageLedger, Report,
                                              Reminder, aligned)
 

@@ -18,7 +18,7 @@ from rbx1_nav.calibration.truth_ros import GroundTruth
 from rbx1_nav.common.node_ros import start_node
 from rbx1_nav.motion.precise import approach
 from rbx1_nav.motion.runner_ros import MotionRunner, guarded
-from rbx1_nav.motion.aborted import CourseAborted
+from rbx1_nav.common.aborted import CourseAborted
 
 NAME = 'umbmark'
 

@@ -2,7 +2,7 @@
 service and the filter loop, wired to
 :class:`rbx1_nav.estimation.fusion.GyroOdomFusion`.
 
-Under lockstep simulated time (rbx1_nav.common.lockstep_member_ros) the
+Under lockstep simulated time (rbx1_nav.sim_time.member_ros) the
 filter is a member: granted each of its ticks, it takes exactly the
 sensor messages the grant counts (the simulator's or bag player's, all
 sent before the grant), feeds them in stamp order at the tick's time,
@@ -25,8 +25,8 @@ from geometry_msgs.msg import PoseWithCovarianceStamped
 from std_srvs.srv import Trigger, TriggerResponse
 from tf2_msgs.msg import TFMessage
 
-from rbx1_nav.common import lockstep_member_ros as lockstep
-from rbx1_nav.common.lockstep_member import BACK, NO_TICK
+from rbx1_nav.sim_time import member_ros as lockstep
+from rbx1_nav.sim_time.member import BACK, NO_TICK
 from rbx1_nav.common.master_ros import MasterWatch, reregister_node
 from rbx1_nav.common.node_ros import start_node, until_shutdown
 from rbx1_nav.common.ros_time import time_moved_back_text
@@ -45,7 +45,7 @@ WARN_PERIOD = 5.0  # s between repeats of the same warning
 CONFLICT_PERIOD = 30.0  # s between repeats of the second-publisher error
 #: Wall seconds the filter waits, under lockstep, for each of its inputs
 #: to be connected to its publishers before it joins
-#: (rbx1_nav.common.lockstep_member_ros.Member.wait_for_inputs).
+#: (rbx1_nav.sim_time.member_ros.Member.wait_for_inputs).
 INPUT_WAIT = 10.0
 
 

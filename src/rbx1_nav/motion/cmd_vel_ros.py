@@ -1,9 +1,8 @@
 """The runner's cmd_vel side: the publisher, its counted sends, and the
 wait for the robot's driver to take the commands.
 
-Under lockstep each command is on its way before the tick's report
-(a synchronous publisher), and each is counted, so the simulator steps on
-only once it has them all. Before a course, :meth:`CmdVel.wait_for_listener`
+The publisher is the course clock's (rbx1_nav.motion.ticks_ros), which
+counts each command sent. Before a course, :meth:`CmdVel.wait_for_listener`
 waits for a subscriber; when none comes it names the topics that do take
 Twist commands (a remap hint). :meth:`CmdVel.watch_publishers` also
 listens on the topic itself, so a course notices another node driving its
@@ -17,25 +16,21 @@ import termios
 import rospy
 from geometry_msgs.msg import Twist
 
-from rbx1_nav.common import lockstep_member_ros as lockstep
 from rbx1_nav.common.cmd_vel_watch import OtherDriver, other_driver_text
 from rbx1_nav.common.cmd_vel_watch_ros import watch_publishers
 from rbx1_nav.common.master_ros import topic_graph
-from rbx1_nav.common.publish_ros import synchronous_publisher
-from rbx1_nav.motion.aborted import CourseAborted
+from rbx1_nav.common.aborted import CourseAborted
 from rbx1_nav.motion.deadline_ros import Deadline
 from rbx1_nav.motion.cmd_vel import listener_hint
 
 
 class CmdVel(object):
-    """The ``cmd_vel`` publisher; ``member`` is the node's lockstep
-    Member (None: not under lockstep)."""
+    """The ``cmd_vel`` publisher of a course run by ``clock``
+    (rbx1_nav.motion.ticks_ros.Ticks or its variant)."""
 
-    def __init__(self, member):
-        self.member = member
-        self.pub = (synchronous_publisher('cmd_vel', Twist)
-                    if member else
-                    rospy.Publisher('cmd_vel', Twist, queue_size=5, tcp_nodelay=True))
+    def __init__(self, clock):
+        self.clock = clock
+        self.pub = clock.publisher('cmd_vel', Twist)
         self.own = rospy.get_name()
         self.others = OtherDriver(self.own)
         self.sub = None  # our own cmd_vel, heard (watch_publishers)
@@ -62,9 +57,9 @@ class CmdVel(object):
         acknowledged by the subscriber's host: in rospy's queue or in the
         kernel's send queue (Linux, TIOCOUTQ). None where that cannot be
         told. TCP delivers in order, so a command sent earlier than these
-        bytes has reached the robot's host. Under lockstep, 0: the
-        simulator steps only once it has every command counted."""
-        if self.member is not None:
+        bytes has reached the robot's host. 0 when the clock counts the
+        commands (the robot moves on only once it has them all)."""
+        if self.clock.counts_commands:
             return 0
         most = 0
         for conn in self._connections():
@@ -80,11 +75,9 @@ class CmdVel(object):
         return most
 
     def send(self, twist):
-        """Publish on cmd_vel, counted for lockstep (the simulator steps on
-        once it has them all)."""
+        """Publish on cmd_vel, and tell the clock."""
         self.pub.publish(twist)
-        if self.member is not None:
-            self.member.sent(self.pub.resolved_name)
+        self.clock.sent(self.pub.resolved_name)
 
     def watch_publishers(self, name):
         """Warn when another node publishes on this cmd_vel too
@@ -114,30 +107,20 @@ class CmdVel(object):
         Commands published before the connection is made are lost, which
         would shorten the first move of an open-loop course.
         """
-        deadline = Deadline(wait, wall=True)
-        while not self._listening():
+        deadline = Deadline(wait)
+        while True:
+            connected = {c.endpoint_id for c in self._connections()}
+            if self.clock.takers(connected):
+                return
             if rospy.is_shutdown():
                 raise rospy.ROSInterruptException('shutdown while waiting')
             if deadline.expired():
-                if self._connections():
-                    raise CourseAborted(
-                        '/lockstep is set but the node taking %s (%s) is not '
-                        'granted lockstep steps on %s after %.1f s: start the '
-                        'simulator with lockstep too, or set /lockstep false'
-                        % (self.pub.resolved_name, ', '.join(sorted(
-                            c.endpoint_id for c in self._connections())),
-                           lockstep.GRANT_TOPIC, wait))
+                refused = connected and self.clock.not_taken(
+                    self.pub.resolved_name, connected, wait)
+                if refused:
+                    raise CourseAborted(refused)
                 raise CourseAborted('nothing subscribes to %s after %.1f s: %s'
                                     % (self.pub.resolved_name, wait,
                                        listener_hint(topic_graph(), self.own,
                                                      self.pub.resolved_name)))
             deadline.poll(50)
-
-    def _listening(self):
-        """True once the driver takes cmd_vel; under lockstep, once a
-        simulator that takes part in it does (it counts every command, so
-        none may go out before its connection is up)."""
-        takers = {c.endpoint_id for c in self._connections()}
-        if self.member is None:
-            return bool(takers)
-        return bool(takers & self.member.simulators())

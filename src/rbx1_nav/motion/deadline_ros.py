@@ -1,8 +1,9 @@
 """A start-up wait's limit, for the motion runner's pieces.
 
 The runner's start-up waits (the transform, a cmd_vel subscriber) wait
-for other processes rather than for the robot: under lockstep they count
-wall seconds, since simulated time only moves once the node is a member.
+for other processes rather than for the robot, so they count wall
+seconds: under simulated time, ROS time may not move until the course
+itself takes part in it.
 """
 import time
 
@@ -10,19 +11,15 @@ import rospy
 
 
 class Deadline(object):
-    """A wait's limit: in ROS time, or in wall time under lockstep."""
+    """``seconds`` of wall time from now."""
 
-    def __init__(self, seconds, wall):
-        self.wall = wall
-        self.end = (time.monotonic() + seconds if wall
-                    else rospy.Time.now() + rospy.Duration(seconds))
+    def __init__(self, seconds):
+        self.end = time.monotonic() + seconds
 
     def expired(self):
-        return (time.monotonic() if self.wall else rospy.Time.now()) >= self.end
+        return time.monotonic() >= self.end
 
-    def poll(self, hz):
-        """Sleep one poll period (wall time under lockstep)."""
-        if self.wall:
-            rospy.rostime.wallsleep(1.0 / hz)
-        else:
-            rospy.sleep(1.0 / hz)
+    @staticmethod
+    def poll(hz):
+        """Sleep one poll period (wall time)."""
+        rospy.rostime.wallsleep(1.0 / hz)

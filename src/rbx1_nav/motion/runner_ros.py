@@ -9,9 +9,9 @@ course, publishes its commands on ``cmd_vel``, and logs a summary line.
 
 :class:`MotionRunner` owns the control loop and the stop; each other
 concern is a piece it composes, beside it in rbx1_nav.motion: the
-cmd_vel side (cmd_vel_ros), the tf follower (tf_follow_ros), the ticks,
-free running or lockstep (ticks_ros), the watchdogs (watchdogs_ros) and
-the summary line (summary).
+cmd_vel side (cmd_vel_ros), the tf follower (tf_follow_ros), the clock
+(ticks_ros), the watchdogs (watchdogs_ros) and the summary line
+(summary).
 
 Safety, for every node that uses it: a zero Twist goes out on every exit
 path (success, Ctrl-C, ``rosnode kill``, any exception). When the
@@ -26,16 +26,14 @@ its transform comes from two nodes or jumps further than the robot can
 move (rbx1_nav.motion.tf_guard). Exit status 0 only after a completed
 course.
 
-Under lockstep simulated time (rbx1_nav.sim_time.lockstep) the node is a member
-from its wait for the transform to the end of the course (it finds the
-transform at a granted tick: the same on every run): sim_clock grants it
-each control tick, at which the
-simulator has published its state, and time waits for the tick's command;
-the start-up waits for the clock, the transform and a cmd_vel subscriber
-(~tf_wait) count wall seconds, at any simulation speed, lockstep or not:
-they wait for other processes rather than for the robot, so a launch file
-need not scale them with its sim_speed (and leave scaled values behind on
-the master for a later rosrun).
+The clock (rbx1_nav.motion.ticks_ros) says when each tick comes and what
+the robot's state is at it: on a real robot, a rate of ROS time; under
+simulated time that steps with its nodes, the simulator's variant. The
+start-up waits for the clock, the transform and a cmd_vel subscriber
+(~tf_wait) count wall seconds, at any simulation speed: they wait for
+other processes rather than for the robot, so a launch file need not
+scale them with its sim_speed (and leave scaled values behind on the
+master for a later rosrun).
 """
 import threading
 
@@ -43,11 +41,10 @@ import rospy
 from geometry_msgs.msg import Twist
 
 from rbx1_nav.common import params
-from rbx1_nav.common import lockstep_member_ros as lockstep
 from rbx1_nav.common.params import param
 from rbx1_nav.common.ros_time import time_moved_back_text
 from rbx1_nav.common.node_ros import start_node
-from rbx1_nav.motion.aborted import CourseAborted
+from rbx1_nav.common.aborted import CourseAborted
 from rbx1_nav.motion.cmd_vel_ros import CmdVel
 from rbx1_nav.motion.precise import Breakaway
 from rbx1_nav.motion.settle import (GAVE_UP, SETTLE_PARAMS, WAITING, Settle,
@@ -55,7 +52,7 @@ from rbx1_nav.motion.settle import (GAVE_UP, SETTLE_PARAMS, WAITING, Settle,
 from rbx1_nav.motion.summary import stalls_text, summary_line
 from rbx1_nav.motion.tf_follow_ros import TF_TOPIC, TfFollower
 from rbx1_nav.motion.tf_guard import TransformGuard, top_speeds
-from rbx1_nav.motion.ticks_ros import Ticks
+from rbx1_nav.motion.ticks_ros import course_ticks
 from rbx1_nav.motion.watchdogs_ros import (ClockWatchdog, DropoutHold,
                                            StallWarnings, TfAgeWarnings,
                                            require_clock, watch_master)
@@ -96,7 +93,7 @@ class MotionRunner(object):
 
     It composes one piece per concern: the cmd_vel side
     (rbx1_nav.motion.cmd_vel_ros), the tf follower
-    (rbx1_nav.motion.tf_follow_ros), the ticks, free running or lockstep
+    (rbx1_nav.motion.tf_follow_ros), the clock
     (rbx1_nav.motion.ticks_ros), the watchdogs
     (rbx1_nav.motion.watchdogs_ros) and the summary line
     (rbx1_nav.motion.summary).
@@ -110,23 +107,19 @@ class MotionRunner(object):
         self.name = name
         self.settings = settings
         self.require_tf = require_tf
-        self.ticks = Ticks(settings['rate'],
-                           lockstep.Member(inputs=[rospy.resolve_name(TF_TOPIC),
-                                                   rospy.resolve_name(StallWarnings.TOPIC)],
-                                           hold=True)
-                           if lockstep.enabled() else None,
-                           settings['tf_wait'], settings['tf_timeout'],
-                           self.stop)
-        # Under lockstep each command is on its way before the tick's report.
-        self.cmd_vel = CmdVel(self.ticks.member)
+        self.ticks = course_ticks(settings['rate'], settings['tf_wait'],
+                                  settings['tf_timeout'], self.stop,
+                                  rospy.resolve_name(TF_TOPIC),
+                                  rospy.resolve_name(StallWarnings.TOPIC))
+        self.cmd_vel = CmdVel(self.ticks)
         self.lock = threading.Lock()
         self.halted = False
         # on_shutdown hooks run before rospy closes its topics (Ctrl-C,
         # rosnode kill, roslaunch ending), so this stop still goes out.
         rospy.on_shutdown(self.halt)
         self.tf = TfFollower(name, settings['odom_frame'], settings['base_frame'],
-                             self.ticks.member)
-        self.stalls = StallWarnings(name, self.ticks.member)
+                             self.ticks)
+        self.stalls = StallWarnings(name, self.ticks)
         self.tf_age = TfAgeWarnings(name, settings['max_tf_age'])
         self.clock_watchdog = ClockWatchdog(name, settings['tf_timeout'],
                                             self.stop)
@@ -178,7 +171,8 @@ class MotionRunner(object):
         """Wait for the clock and start the watchdogs (once per node)."""
         if not self._started:
             require_clock(self.settings['tf_wait'])
-            self.clock_watchdog.start(lockstep=self.ticks.member is not None)
+            if self.ticks.watch_clock:
+                self.clock_watchdog.start()
             watch_master(self.name)
             self.cmd_vel.watch_publishers(self.name)
             self._started = True
@@ -188,7 +182,7 @@ class MotionRunner(object):
 
         Raises CourseAborted or rospy.ROSInterruptException if the course
         did not complete; the robot is stopped either way. With ``stay``,
-        a lockstep member stays one after the course (another follows at
+        the clock is not told the course has ended (another follows at
         once: see :meth:`pause` and :meth:`leave`).
         """
         self.start()
@@ -197,7 +191,8 @@ class MotionRunner(object):
         self.cmd_vel.others.arm()
         try:
             if self.tf.followed is None:
-                self._find_base_frame()
+                self.tf.followed = self.tf.find_base_frame(
+                    self.settings['tf_wait'], self.require_tf)
             self.cmd_vel.wait_for_listener(self.settings['tf_wait'])
             if self.tf.followed is not None:
                 self.tf.guard = TransformGuard(
@@ -216,25 +211,12 @@ class MotionRunner(object):
             self.leave()
         return final
 
-    def _find_base_frame(self):
-        """The start-up wait for the transform (~tf_wait, wall seconds).
-        Under lockstep the node joins first and looks at each tick granted
-        meanwhile: the course starts at the same tick on every run, and with
-        sim_clock's ~members counting it, at the same time."""
-        ticks = None
-        if self.ticks.member is not None:
-            ticks = (self.ticks.grant for _ in self.ticks.ticks(self._joined))
-        self.tf.followed = self.tf.find_base_frame(
-            self.settings['tf_wait'], self.require_tf, ticks)
-        if ticks is not None:
-            self._joined()  # now that the followed frame is known
-
     def pause(self, seconds):
         """Wait ``seconds`` of ROS time between courses (see Ticks.pause)."""
         self.ticks.pause(seconds)
 
     def leave(self):
-        """Leave the lockstep after the last course (a no-op off it)."""
+        """Tell the clock the last course has ended."""
         self.ticks.leave()
 
     def _check_robot_is_ours(self):
@@ -247,11 +229,6 @@ class MotionRunner(object):
         if problem:
             self.stop()
             raise CourseAborted(problem)
-
-    def _joined(self):
-        """Under lockstep, once a member: the simulator whose state to wait
-        for at each tick."""
-        self.tf.pick_simulator(self.ticks.member.simulators())
 
     def _drive(self, course):
         """The control loop of :meth:`run`: the course's steps, then (with
@@ -267,10 +244,10 @@ class MotionRunner(object):
         stops, message_bytes = 0, self.cmd_vel.message_bytes()  # sent after it
         self.tick_times = []
         start = None
-        for now in self.ticks.ticks(self._joined):
+        for now in self.ticks.ticks():
             # The course counts seconds from its first tick, from the ROS
             # times' integer ns: the same ticks give the same seconds
-            # whenever it began (under lockstep, the same course).
+            # whenever it began.
             if start is None:
                 start = now
             self.tick_times.append((now - start).to_sec())
@@ -278,8 +255,7 @@ class MotionRunner(object):
             self._check_robot_is_ours()
             if fresh_at is None:
                 fresh_at = now
-            reading = (None if blind
-                       else self.tf.reading(now, self.ticks.grant))
+            reading = None if blind else self.ticks.reading(self.tf, now)
             fresh = reading is not None and (last_stamp is None
                                              or reading[1] > last_stamp)
             if fresh:
@@ -306,13 +282,13 @@ class MotionRunner(object):
             if fresh_at == now:  # a new transform this tick
                 self.tf_age.check(age, course.predicts, self.tf.odom_frame,
                                   self.tf.followed)
-            self.stalls.check(course, start, self.ticks.grant)
+            self.stalls.check(course, start)
             self.publish(course.update(pose, t, age))
             for event in course.pop_events():
                 rospy.loginfo(self.robot + event)
             if course.done:
                 self.stop()
-                self.stalls.check(course, start, self.ticks.grant)
+                self.stalls.check(course, start)
                 course.stalls.end(self.tick_times[-1])
                 if blind:
                     break
@@ -356,9 +332,8 @@ class MotionRunner(object):
         """ROS time of the last control tick of the course driven last.
 
         Under simulated time, ``rospy.Time.now()`` is the last /clock this
-        process received, which may lag the course's own ticks (granted
-        to it under lockstep) on a loaded machine: read a simulator's
-        state at this time instead."""
+        process received, which may lag the course's own ticks on a loaded
+        machine: read a simulator's state at this time instead."""
         return self._last_tick
 
     def summarize(self, course, final):

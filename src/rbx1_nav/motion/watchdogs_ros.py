@@ -2,8 +2,8 @@
 a course runs, noticed and said (and, where it must, the robot stopped).
 
 * :func:`require_clock` and :class:`ClockWatchdog`: under /use_sim_time,
-  the first /clock, and /clock stopping (without lockstep; under lockstep
-  the grants have a limit of their own, rbx1_nav.motion.ticks_ros);
+  the first /clock, and /clock stopping (unless the course's clock
+  watches it itself: rbx1_nav.motion.ticks_ros);
 * :func:`watch_master`: the ROS master gone, back, or restarted;
 * :class:`StallWarnings`: the robot's odometry velocities, fed to the
   course's stall count, with a warning for each stall;
@@ -22,7 +22,7 @@ from rbx1_nav.common.master_ros import MasterWatch
 from rbx1_nav.common.master_watch import gone_text, restarted_text
 from rbx1_nav.common.node_ros import CLOCK_WAIT, wait_for_clock
 from rbx1_nav.common.ros_time import no_clock_text
-from rbx1_nav.motion.aborted import CourseAborted
+from rbx1_nav.common.aborted import CourseAborted
 from rbx1_nav.motion.dropouts import HOLD, LOST, Dropouts
 
 WARN_PERIOD = 10.0  # s between warnings about an old transform or a stall
@@ -46,8 +46,7 @@ class ClockWatchdog(object):
     control loop, and with it the stale-tf check, would block forever.
     This thread measures wall time (the one place the node does) and shuts
     the node down, robot stopped (``stop()``), when ROS time stands still
-    for max(2 s, ``tf_timeout``) of wall time. Under lockstep the node waits
-    for grants instead, with a limit of its own (rbx1_nav.motion.ticks_ros).
+    for max(2 s, ``tf_timeout``) of wall time.
     """
 
     def __init__(self, name, tf_timeout, stop):
@@ -55,9 +54,9 @@ class ClockWatchdog(object):
         self.limit = max(2.0, tf_timeout)
         self.stop = stop
 
-    def start(self, lockstep):
-        """Start the thread, unless off simulated time or under ``lockstep``."""
-        if not rospy.get_param('/use_sim_time', False) or lockstep:
+    def start(self):
+        """Start the thread, unless off simulated time."""
+        if not rospy.get_param('/use_sim_time', False):
             return
         threading.Thread(target=self._watch, name='clock_watchdog',
                          daemon=True).start()
@@ -96,16 +95,17 @@ def watch_master(name):
 
 class StallWarnings(object):
     """The velocities the robot measured (``odom``), for Course.stalls;
-    ``name`` is the node's, for the warnings. Under lockstep ``member``
-    (the node's membership, which awaits ``odom`` among its inputs) holds
-    them until a grant counts them, so a tick reads the same velocities on
-    every run (precise mode waits on them for a still robot)."""
+    ``name`` is the node's, for the warnings; ``clock`` the course's,
+    which may keep them for the tick that counts them
+    (rbx1_nav.motion.ticks_ros.Ticks.arrived), so a tick reads the same
+    velocities on every run (precise mode waits on them for a still
+    robot)."""
 
     TOPIC = 'odom'
 
-    def __init__(self, name, member=None):
+    def __init__(self, name, clock):
         self.name = name
-        self.member = member
+        self.clock = clock
         # Drained by the control loop, so the course is only touched in
         # one thread.
         self.velocities = collections.deque(maxlen=1000)
@@ -115,10 +115,8 @@ class StallWarnings(object):
     def _on_odom(self, msg):
         twist = msg.twist.twist
         item = (msg.header.stamp, twist.linear.x, twist.angular.z)
-        if self.member is None:
+        if not self.clock.arrived(self.topic, msg, item):
             self.velocities.append(item)
-        else:
-            self.member.arrived(self.topic, msg, item)
 
     @property
     def topic(self):
@@ -128,15 +126,13 @@ class StallWarnings(object):
         """True when something publishes the odometry velocities."""
         return self.sub.get_num_connections() != 0
 
-    def check(self, course, start, grant=None):
-        """Feed the robot's measured velocities (under lockstep those
-        ``grant`` counts, in stamp order) to ``course.stalls``, their stamps
+    def check(self, course, start):
+        """Feed the robot's measured velocities (and those the clock kept
+        for this tick, in stamp order) to ``course.stalls``, their stamps
         in seconds from ``start`` (the course's first tick, as the course
         counts time); warn (throttled) of each spell it stood still while
         commanded to move."""
-        if self.member is not None and grant is not None:
-            self.velocities.extend(self.member.take(grant, key=lambda item: item[0],
-                                                    topic=self.topic))
+        self.velocities.extend(self.clock.take(self.topic, key=lambda item: item[0]))
         while self.velocities:
             stamp, linear, angular = self.velocities.popleft()
             spell = course.stalls.velocity((stamp - start).to_sec(), linear, angular)

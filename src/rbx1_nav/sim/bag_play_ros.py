@@ -12,8 +12,8 @@ import rosbag
 import roslib.message
 import rospy
 
-from rbx1_nav.common import lockstep_member_ros as lockstep
-from rbx1_nav.common.lockstep_member import BACK
+from rbx1_nav.sim_time import member_ros as lockstep
+from rbx1_nav.sim_time.member import BACK
 from rbx1_nav.common.node_ros import start_node
 from rbx1_nav.sim.bag_play import Schedule
 

@@ -9,8 +9,8 @@ import rospy
 
 from rbx1_nav.sim.params import MAX_CATCH_UP, WARN_PERIOD
 from rbx1_nav.common.ros_time import time_moved_back_text
-from rbx1_nav.common import lockstep_member_ros as lockstep
-from rbx1_nav.common.lockstep_member import BACK
+from rbx1_nav.sim_time import member_ros as lockstep
+from rbx1_nav.sim_time.member import BACK
 from rbx1_nav.common.publish_ros import from_ns
 from rbx1_nav.common.cmd_vel_watch_ros import watch_publishers
 

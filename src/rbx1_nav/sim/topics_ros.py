@@ -22,7 +22,7 @@ from tf2_msgs.msg import TFMessage
 from rbx1_nav.sim.diff_drive import DiffDriveConfig, DiffDriveFleet, covariance_from_diagonal
 from rbx1_nav.sim.params import GPS_UNKNOWN_VARIANCE, MAX_CATCH_UP, WARN_PERIOD
 from rbx1_nav.sim.physics import PhysicsConfig, PhysicsFleet
-from rbx1_nav.common import lockstep_member_ros as lockstep
+from rbx1_nav.sim_time import member_ros as lockstep
 from rbx1_nav.common.publish_ros import synchronous_publisher
 from rbx1_nav.common.tf_publishers import (OtherPublisherWatch, foreign_parent,
                                            robot_conflict_text)

@@ -7,7 +7,7 @@ import time
 
 import rospy
 
-from rbx1_nav.common.lockstep_member_ros import enabled as lockstep_enabled
+from rbx1_nav.sim_time.member_ros import enabled as lockstep_enabled
 from rbx1_nav.common.node_ros import start_node
 from rbx1_nav.sim_time import lockstep_ros
 from rbx1_nav.sim_time.pacer import ClockPacer

@@ -30,7 +30,7 @@ grant counted (messages travel on their own connections): a simulator its
 commands, a filter its sensor messages. A member whose answer must not
 depend on when a message arrives (a filter, a course following a
 filter's transform) then takes only those counted messages, and keeps any
-newer one for its next grant (rbx1_nav.common.lockstep_member.Inbox).
+newer one for its next grant (rbx1_nav.sim_time.member.Inbox).
 ``/clock`` is published for ordinary nodes (RViz, rosbag, a user's
 script); no member waits for it. Time jumps from event to event: the next grant is
 the earliest next tick any member asked for, so a 20 Hz course on a 50 Hz
@@ -76,10 +76,10 @@ owner, started from further back, takes over members of an old one).
 Leaving: a report marked leaving, or the member's connection closing.
 Times are integer nanoseconds; no rospy here, so the rules are unit-tested
 without a master (test/unit/test_lockstep.py). A member's side of the rules
-(Follower, MessageLedger, Inbox) is rbx1_nav.common.lockstep_member: every
+(Follower, MessageLedger, Inbox) is rbx1_nav.sim_time.member: every
 node that keeps time takes part, so it is common ground; the owner is here.
 """
-from rbx1_nav.common.lockstep_member import NO_TICK
+from rbx1_nav.sim_time.member import NO_TICK
 
 __all__ = ['Owner']
 

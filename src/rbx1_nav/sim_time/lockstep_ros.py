@@ -1,5 +1,5 @@
 """sim_clock's side of lockstep simulated time (the rules:
-rbx1_nav.sim_time.lockstep; a member's side: rbx1_nav.common.lockstep_member_ros).
+rbx1_nav.sim_time.lockstep; a member's side: rbx1_nav.sim_time.member_ros).
 
 :class:`TimeOwner` takes the members' reports on REPORT_TOPIC, grants each
 step on GRANT_TOPIC and publishes ``/clock`` (:class:`ClockPublisher`).
@@ -11,8 +11,8 @@ import time
 import rospy
 from rosgraph_msgs.msg import Clock
 
-from rbx1_nav.common.lockstep_member import RESEND, Report
-from rbx1_nav.common.lockstep_member_ros import GRANT_TOPIC, REPORT_TOPIC
+from rbx1_nav.sim_time.member import RESEND, Report
+from rbx1_nav.sim_time.member_ros import GRANT_TOPIC, REPORT_TOPIC
 from rbx1_nav.common.publish_ros import (from_ns, keep_own_time, publish, sender,
                                          synchronous_publisher, to_ns)
 from rbx1_nav.msg import LockstepGrant, LockstepReport

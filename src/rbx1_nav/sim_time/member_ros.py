@@ -1,4 +1,4 @@
-"""A lockstep member's ROS side (its rules: rbx1_nav.common.lockstep_member).
+"""A lockstep member's ROS side (its rules: rbx1_nav.sim_time.member).
 
 Lockstep is on when both ``/use_sim_time`` and ``/lockstep`` are true
 (sim_clock.launch sets them); on a real robot nothing here runs.
@@ -14,12 +14,13 @@ import time
 import rospy
 from rospy.impl.registration import get_topic_manager
 
-from rbx1_nav.common.lockstep_member import (LOST_MESSAGES, REPEAT, RESEND, STALE, STALLED,
+from rbx1_nav.sim_time.member import (LOST_MESSAGES, REPEAT, RESEND, STALE, STALLED,
                                              WAIT_WARNING, Follower, Inbox, MessageLedger,
                                              Reminder)
 from rbx1_nav.common.publish_ros import (delivered, from_ns, keep_own_time, link, publish,
                                          sender, synchronous_publisher, to_ns)
 from rbx1_nav.common.master_ros import node_answers, topic_graph
+from rbx1_nav.sim_time.stepping_ros import enabled
 from rbx1_nav.msg import LockstepGrant, LockstepReport
 
 __all__ = ['GRANT_TOPIC', 'REPORT_TOPIC', 'GRANT_LIMIT', 'POLL', 'STALLED',
@@ -75,12 +76,6 @@ class NoOwnerWarning(object):
         waited = self.reminder.due(time.monotonic())
         if waited is not None and not rospy.is_shutdown():
             rospy.logwarn(no_owner_text(self.log_name, waited))
-
-
-def enabled():
-    """True when this run uses lockstep simulated time."""
-    return bool(rospy.get_param('/use_sim_time', False)
-                and rospy.get_param('/lockstep', False))
 
 
 def connected_publishers(topic, delivering=False):
@@ -326,7 +321,7 @@ class Member(object):
 
     def wait_grant(self, limit=None):
         """Wait for the next step granted to this node; return (action,
-        time ns, grant): action HANDLE or BACK (rbx1_nav.common.lockstep_member.Follower).
+        time ns, grant): action HANDLE or BACK (rbx1_nav.sim_time.member.Follower).
         Sends the last report again every RESEND wall seconds without a
         grant (at once to a new owner). While an owner is connected it
         waits however long the step takes; None once no owner is
@@ -441,7 +436,7 @@ class Member(object):
         """With ``hold``: the items of the messages ``grant`` counts on the
         inputs (on ``topic`` only, if given; waited for as
         :meth:`wait_counted` does), in the order of ``key(item)``: the same
-        on every run (rbx1_nav.common.lockstep_member.Inbox)."""
+        on every run (rbx1_nav.sim_time.member.Inbox)."""
         self.wait_counted(grant)
         with self.cond:
             return self.inbox.take(zip(grant.topics, grant.senders, grant.counts),

@@ -2,12 +2,12 @@
 simulated time does with each grant, and how it counts the messages it
 receives against those the other members reported sending.
 
-Every node that keeps time under lockstep takes part: the simulators, the
-motion nodes, and any node later made a member, so a member's side of the
-protocol is common ground; the owner of simulated time (sim_clock) and the
-protocol's whole argument (why nothing can wait forever) are in
+Every node that keeps time under lockstep takes part (the simulators,
+the filters, the bag player, the courses) through this one side of the
+protocol; the owner of simulated time (sim_clock) and the protocol's
+whole argument (why nothing can wait forever) are in
 rbx1_nav.sim_time.lockstep. The ROS side of a member is
-rbx1_nav.common.lockstep_member_ros. Times are integer nanoseconds; no
+rbx1_nav.sim_time.member_ros. Times are integer nanoseconds; no
 rospy here (test/unit/test_lockstep.py).
 """
 import collections
@@ -29,7 +29,7 @@ LOST_MESSAGES = 1.0
 #: still connected as lost all the same: a backstop against a hang, with
 #: a warning that names it, not a limit a loaded machine reaches (a member
 #: connects for its counted messages at both ends before it joins:
-#: rbx1_nav.common.lockstep_member_ros.Member.wait_for_inputs).
+#: rbx1_nav.sim_time.member_ros.Member.wait_for_inputs).
 STALLED = 10.0
 #: Wall seconds between the warnings of a member that keeps waiting for
 #: counted messages from a connected sender.
