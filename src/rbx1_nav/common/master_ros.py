@@ -19,10 +19,10 @@ import threading
 
 import rosgraph
 import rospy
-from rospy.impl.registration import get_service_manager, get_topic_manager
 
 from rbx1_nav.common.master_watch import (BACK, GONE, RESTARTED, TIMEOUT,
                                           MasterStates, proxy, reregistering_text)
+from rbx1_nav.common.rospy_private_ros import registrations
 
 __all__ = ['MasterWatch', 'proxy', 'topic_graph', 'node_answers', 'reregister',
            'reregister_node']
@@ -160,17 +160,12 @@ def reregister(timeout=TIMEOUT):
     """
     uri, node_uri = rosgraph.get_master_uri(), rospy.get_node_uri()
     caller_id = rospy.get_caller_id()
-    topics = get_topic_manager()
-    # The lock keeps the lists still; a registration stuck on an
+    # rospy's lock keeps the lists still; a registration stuck on an
     # unreachable master holds it, hence the timeout.
-    if not topics.lock.acquire(timeout=timeout):
+    registered = registrations(timeout)
+    if registered is None:
         raise RuntimeError('rospy is busy registering a topic')
-    try:
-        publications = topics.get_publications()
-        subscriptions = topics.get_subscriptions()
-    finally:
-        topics.lock.release()
-    services = get_service_manager().get_services()
+    publications, subscriptions, services = registered
     with proxy(uri, timeout) as master, proxy(node_uri, timeout) as node:
         for topic, msg_type in publications:
             _value(master.registerPublisher(caller_id, topic, msg_type, node_uri),

@@ -21,12 +21,13 @@ import time
 
 import rosgraph
 import rospy
-from rospy.impl.masterslave import ROSHandler
 
 from rbx1_nav.common import params
 from rbx1_nav.common.master_ros import master_identity
 from rbx1_nav.common.master_watch import misdirected_text, replaced_node
 from rbx1_nav.common.ros_time import no_clock_text
+from rbx1_nav.common.rospy_private_ros import (set_shutdown_request_handler,
+                                              shutdown_request_handler, wait_for_shutdown)
 
 
 def _shutdown_on_signal(signum, frame):
@@ -62,7 +63,7 @@ def refuse_misdirected_shutdowns():
     the next one started under that name. A request naming
     this node, and any other (``rosnode kill``), is obeyed as before.
     """
-    obey = ROSHandler.shutdown
+    obey = shutdown_request_handler()
     if getattr(obey, 'refuses_misdirected', False):
         return
 
@@ -74,7 +75,7 @@ def refuse_misdirected_shutdowns():
         return obey(handler, caller_id, msg)
 
     shutdown.refuses_misdirected = True
-    ROSHandler.shutdown = shutdown
+    set_shutdown_request_handler(shutdown)
 
 
 def exit_if_help(specs, doc):
@@ -228,8 +229,7 @@ def _shut_down(reason):
     signal's, the master's request): rospy runs its hooks, unregistering
     from the master among them, holding its shutdown lock."""
     rospy.signal_shutdown(reason)
-    with rospy.core._shutdown_lock:
-        pass
+    wait_for_shutdown()
 
 
 def exit_node(name, status):

@@ -7,7 +7,9 @@ import itertools
 import warnings
 
 import rospy
-import rospy.impl.simtime
+
+from rbx1_nav.common.rospy_private_ros import (connection_header, take_clock_subscriber,
+                                              transport_header)
 
 __all__ = ['from_ns', 'keep_own_time', 'link', 'publish', 'sender',
            'synchronous_publisher', 'to_ns']
@@ -25,7 +27,7 @@ def from_ns(ns):
 
 def sender(msg):
     """The node name that published ``msg`` (rospy keeps it per message)."""
-    return msg._connection_header['callerid']
+    return connection_header(msg)['callerid']
 
 
 _LINKS = itertools.count(1)
@@ -36,7 +38,7 @@ def link(msg):
     """A number for the connection ``msg`` came on, the same for every
     message on it and never given to another (rospy shares one header dict
     per connection: the number is kept there)."""
-    header = msg._connection_header
+    header = connection_header(msg)
     number = header.get(_LINK)
     if number is None:
         number = header[_LINK] = next(_LINKS)
@@ -47,7 +49,7 @@ def delivered(connection):
     """True once a message that :func:`link` numbered came on
     ``connection`` (a subscriber's rospy transport): its publisher is
     writing to it."""
-    return _LINK in (connection.header or {})
+    return _LINK in (transport_header(connection) or {})
 
 
 def synchronous_publisher(topic, msg_class, **kwargs):
@@ -73,7 +75,8 @@ def publish(pub, msg):
 
 def keep_own_time():
     """Stop hearing /clock: from now on this node sets its ROS time itself
-    (rospy.rostime._set_rostime, what rospy's /clock callback calls).
+    (rbx1_nav.common.rospy_private_ros.set_rostime, what rospy's /clock
+    callback calls).
 
     Under /use_sim_time rospy subscribes every node to /clock. The node
     that publishes it, and a simulator, granted every step /clock carries,
@@ -82,9 +85,8 @@ def keep_own_time():
     GIL from the stepping thread, at every step. True if rospy's /clock
     subscription was there and is gone (otherwise /clock still sets the
     time, and a node setting it too does no harm)."""
-    sub = getattr(rospy.impl.simtime, '_clock_sub', None)
+    sub = take_clock_subscriber()
     if sub is None:
         return False
-    rospy.impl.simtime._clock_sub = None
     sub.unregister()
     return True

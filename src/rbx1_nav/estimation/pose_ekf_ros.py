@@ -30,6 +30,7 @@ from rbx1_nav.sim_time.member import BACK, NO_TICK
 from rbx1_nav.common.master_ros import MasterWatch, reregister_node
 from rbx1_nav.common.node_ros import start_node, until_shutdown
 from rbx1_nav.common.ros_time import time_moved_back_text
+from rbx1_nav.common.rospy_private_ros import connection_header, connections, publisher_name
 from rbx1_nav.common.tf_publishers import foreign_parent
 from rbx1_nav.estimation.ekf import is_finite_estimate
 from rbx1_nav.estimation.fusion import GyroOdomFusion
@@ -57,7 +58,7 @@ def connected_publishers(subscriber):
     warning this feeds.
     """
     try:
-        return sorted(c.callerid_pub for c in subscriber.impl.connections)
+        return sorted(publisher_name(c) for c in connections(subscriber))
     except AttributeError:  # rospy's internals changed
         return None
 
@@ -168,7 +169,7 @@ class PoseEkfNode(object):
 
     def on_tf(self, msg):
         """Spot another node publishing our child frame on tf."""
-        caller = msg._connection_header.get('callerid', '?')
+        caller = connection_header(msg).get('callerid', '?')
         parent = foreign_parent(caller, rospy.get_name(), msg.transforms,
                                 self.base_frame)
         if parent and self.conflicts.seen(caller, rospy.Time.now().to_sec()):

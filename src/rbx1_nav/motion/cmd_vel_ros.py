@@ -8,10 +8,7 @@ Twist commands (a remap hint). :meth:`CmdVel.watch_publishers` also
 listens on the topic itself, so a course notices another node driving its
 robot (rbx1_nav.common.cmd_vel_watch.OtherDriver).
 """
-import fcntl
 import io
-import struct
-import termios
 
 import rospy
 from geometry_msgs.msg import Twist
@@ -20,6 +17,8 @@ from rbx1_nav.common.cmd_vel_watch import OtherDriver, other_driver_text
 from rbx1_nav.common.cmd_vel_watch_ros import watch_publishers
 from rbx1_nav.common.master_ros import topic_graph
 from rbx1_nav.common.aborted import CourseAborted
+from rbx1_nav.common.rospy_private_ros import (connection_header, connections,
+                                              subscriber_name, unsent_bytes)
 from rbx1_nav.motion.deadline_ros import Deadline
 from rbx1_nav.motion.cmd_vel import listener_hint
 
@@ -38,8 +37,8 @@ class CmdVel(object):
     def _connections(self):
         """The publisher's connections to other nodes (not to our own
         subscriber, which hears the topic for :meth:`other_driver`)."""
-        return [c for c in list(self.pub.impl.connections)
-                if c.endpoint_id != self.own]
+        return [c for c in connections(self.pub)
+                if subscriber_name(c) != self.own]
 
     @property
     def resolved_name(self):
@@ -55,7 +54,7 @@ class CmdVel(object):
     def unacknowledged(self):
         """The most bytes of commands any cmd_vel connection has not had
         acknowledged by the subscriber's host: in rospy's queue or in the
-        kernel's send queue (Linux, TIOCOUTQ). None where that cannot be
+        kernel's send queue (rospy_private_ros.unsent_bytes). None where that cannot be
         told. TCP delivers in order, so a command sent earlier than these
         bytes has reached the robot's host. 0 when the clock counts the
         commands (the robot moves on only once it has them all)."""
@@ -63,15 +62,10 @@ class CmdVel(object):
             return 0
         most = 0
         for conn in self._connections():
-            queued = sum(len(data) for data in getattr(conn, '_queue', None) or ())
-            sock = getattr(conn, 'socket', None)
-            if sock is None:
-                continue
-            try:
-                raw = fcntl.ioctl(sock.fileno(), termios.TIOCOUTQ, b'\0' * 4)
-            except (OSError, ValueError):  # closed meanwhile, or not Linux
+            unsent = unsent_bytes(conn)
+            if unsent is None:
                 return None
-            most = max(most, queued + struct.unpack('i', raw)[0])
+            most = max(most, unsent)
         return most
 
     def send(self, twist):
@@ -91,7 +85,7 @@ class CmdVel(object):
 
     def _on_cmd_vel(self, msg):
         l, a = msg.linear, msg.angular
-        self.others.heard(msg._connection_header.get('callerid', '?'),
+        self.others.heard(connection_header(msg).get('callerid', '?'),
                           (l.x, l.y, l.z), (a.x, a.y, a.z))
 
     def other_driver(self):
@@ -109,7 +103,7 @@ class CmdVel(object):
         """
         deadline = Deadline(wait)
         while True:
-            connected = {c.endpoint_id for c in self._connections()}
+            connected = {subscriber_name(c) for c in self._connections()}
             if self.clock.takers(connected):
                 return
             if rospy.is_shutdown():

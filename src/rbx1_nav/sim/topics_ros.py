@@ -24,6 +24,7 @@ from rbx1_nav.sim.params import GPS_UNKNOWN_VARIANCE, MAX_CATCH_UP, WARN_PERIOD
 from rbx1_nav.sim.physics import PhysicsConfig, PhysicsFleet
 from rbx1_nav.sim_time import member_ros as lockstep
 from rbx1_nav.common.publish_ros import synchronous_publisher
+from rbx1_nav.common.rospy_private_ros import connection_header
 from rbx1_nav.common.tf_publishers import (OtherPublisherWatch, foreign_parent,
                                            robot_conflict_text)
 from rbx1_nav.common.throttle import Throttle
@@ -217,7 +218,7 @@ class RobotTopics:
     def on_tf(self, msg):
         """Log (at once, then every 30 s while it lasts) another node
         publishing this robot's transform."""
-        caller = msg._connection_header.get('callerid', '?')
+        caller = connection_header(msg).get('callerid', '?')
         parent = foreign_parent(caller, rospy.get_name(), msg.transforms,
                                 self.base_frame)
         if parent and self.conflicts.seen(caller, rospy.Time.now().to_sec()):

@@ -15,6 +15,7 @@ from rbx1_nav.sim_time.member import RESEND, Report
 from rbx1_nav.sim_time.member_ros import GRANT_TOPIC, REPORT_TOPIC
 from rbx1_nav.common.publish_ros import (from_ns, keep_own_time, publish, sender,
                                          synchronous_publisher, to_ns)
+from rbx1_nav.common.rospy_private_ros import connections, publisher_name, set_rostime
 from rbx1_nav.msg import LockstepGrant, LockstepReport
 from rbx1_nav.sim_time.lockstep import Owner
 
@@ -42,7 +43,7 @@ class ClockPublisher(object):
         """Publish ``time_ns``; False once rospy has closed its topics."""
         stamp = from_ns(time_ns)
         if self.own_time:
-            rospy.rostime._set_rostime(stamp)
+            set_rostime(stamp)
         return publish(self.pub, Clock(clock=stamp))
 
 
@@ -206,7 +207,7 @@ class TimeOwner(object):
         """Members whose report connection closed (the node died) leave.
         Not while this node shuts down: rospy closes its connections then,
         after is_shutdown() turns true, and no member has gone."""
-        connected = {c.callerid_pub for c in self.sub.impl.connections}
+        connected = {publisher_name(c) for c in connections(self.sub)}
         if rospy.is_shutdown():
             return
         members = set(self.owner.members)

@@ -12,7 +12,6 @@ import threading
 import time
 
 import rospy
-from rospy.impl.registration import get_topic_manager
 
 from rbx1_nav.sim_time.member import (LOST_MESSAGES, REPEAT, RESEND, STALE, STALLED,
                                              WAIT_WARNING, Follower, Inbox, MessageLedger,
@@ -20,6 +19,9 @@ from rbx1_nav.sim_time.member import (LOST_MESSAGES, REPEAT, RESEND, STALE, STAL
 from rbx1_nav.common.publish_ros import (delivered, from_ns, keep_own_time, link, publish,
                                          sender, synchronous_publisher, to_ns)
 from rbx1_nav.common.master_ros import node_answers, topic_graph
+from rbx1_nav.common.rospy_private_ros import (published_connections, publisher_name,
+                                              set_rostime, subscribed_connections,
+                                              subscriber_name)
 from rbx1_nav.sim_time.stepping_ros import enabled
 from rbx1_nav.msg import LockstepGrant, LockstepReport
 
@@ -82,8 +84,7 @@ def connected_publishers(topic, delivering=False):
     """The nodes this node is connected to as a subscriber of ``topic``
     (resolved); with ``delivering``, only those a member's message has
     come from on the connection (:func:`rbx1_nav.common.publish_ros.delivered`)."""
-    impl = get_topic_manager().get_subscriber_impl(topic)
-    return {c.callerid_pub for c in (impl.connections if impl else ())
+    return {publisher_name(c) for c in subscribed_connections(topic) or ()
             if not delivering or delivered(c)}
 
 
@@ -256,7 +257,6 @@ class Member(object):
         Those counted before the first grant are never awaited
         (MessageLedger.settle)."""
         deadline = time.monotonic() + limit
-        manager = get_topic_manager()
         owner_since = None  # wall s since the owner is connected
         while not rospy.is_shutdown():
             graph = topic_graph()
@@ -275,11 +275,11 @@ class Member(object):
                 if missing:
                     waiting.append('%s from %s' % (topic, ', '.join(sorted(missing))))
             for topic in sorted(subscribers):
-                impl = manager.get_publisher_impl(topic)
-                if impl is None:
+                conns = published_connections(topic)
+                if conns is None:
                     continue
                 missing = ((set(subscribers[topic]) & members) - {self.name}
-                           - {c.endpoint_id for c in impl.connections})
+                           - {subscriber_name(c) for c in conns})
                 if missing:
                     waiting.append('%s to %s' % (topic, ', '.join(sorted(missing))))
             if not waiting:
@@ -362,7 +362,7 @@ class Member(object):
                           time_ns * 1e-9, self.follower.handled * 1e-9)
         else:
             if self.own_time:
-                rospy.rostime._set_rostime(grant.time)
+                set_rostime(grant.time)
             return action, time_ns, grant
         return None
 
