@@ -47,15 +47,15 @@ from rbx1_nav.common.node_ros import start_node
 from rbx1_nav.common.aborted import CourseAborted
 from rbx1_nav.motion.cmd_vel_ros import CmdVel
 from rbx1_nav.motion.precise import Breakaway
-from rbx1_nav.motion.settle import (GAVE_UP, SETTLE_PARAMS, WAITING, Settle,
-                                    delivered, moved_text)
+from rbx1_nav.motion.loop import Hold, Reading, Settling
+from rbx1_nav.motion.settle import GAVE_UP, SETTLE_PARAMS, Settle, moved_text
 from rbx1_nav.motion.summary import stalls_text, summary_line
 from rbx1_nav.motion.tf_follow_ros import TF_TOPIC, TfFollower
 from rbx1_nav.motion.tf_guard import TransformGuard, top_speeds
 from rbx1_nav.motion.ticks_ros import course_ticks
-from rbx1_nav.motion.watchdogs_ros import (ClockWatchdog, DropoutHold,
-                                           StallWarnings, TfAgeWarnings,
-                                           require_clock, watch_master)
+from rbx1_nav.motion.watchdogs_ros import (ClockWatchdog, StallWarnings,
+                                           TfAgeWarnings, require_clock,
+                                           watch_master)
 from rbx1_nav.transform_utils import Pose2D
 
 __all__ = ['MotionRunner', 'common_params', 'guarded',
@@ -124,7 +124,7 @@ class MotionRunner(object):
         self.clock_watchdog = ClockWatchdog(name, settings['tf_timeout'],
                                             self.stop)
         self._started = False
-        self.dropouts = None  # the transform's, in the course driven last
+        self.hold = None  # the transform's dropouts, in the course driven last
         self.tick_times = []  # the control ticks (s) of the course driven last, from its first
         self._last_tick = None  # the ROS time of the last of them
         # Precise mode's creep speeds learned where the robot stuck: kept
@@ -232,74 +232,65 @@ class MotionRunner(object):
 
     def _drive(self, course):
         """The control loop of :meth:`run`: the course's steps, then (with
-        odometry) the wait for a still robot (:meth:`_settled`)."""
+        odometry) the wait for a still robot; the pieces it asks are in
+        rbx1_nav.motion.loop."""
         blind = self.tf.followed is None
         course.breakaway = self.breakaway
-        self.dropouts = DropoutHold(
-            self.name, 'tf %s -> %s' % (self.tf.odom_frame, self.tf.followed),
-            self.settings['tf_timeout'], self.settings['link_grace'], self.stop)
-        pose = Pose2D(0.0, 0.0, 0.0) if blind else None
-        last_stamp = fresh_at = None
-        settle = None  # once the course is done: its rbx1_nav.motion.settle.Settle
-        stops, message_bytes = 0, self.cmd_vel.message_bytes()  # sent after it
+        self.hold = Hold(self.name, 'tf %s -> %s' % (self.tf.odom_frame, self.tf.followed),
+                         self.settings['tf_timeout'], self.settings['link_grace'],
+                         self.stop, rospy.logwarn, rospy.loginfo)
+        robot = Reading(Pose2D(0.0, 0.0, 0.0) if blind else None)
+        settling = None
         self.tick_times = []
         start = None
         for now in self.ticks.ticks():
-            # The course counts seconds from its first tick, from the ROS
-            # times' integer ns: the same ticks give the same seconds
-            # whenever it began.
             if start is None:
                 start = now
-            self.tick_times.append((now - start).to_sec())
+            # Seconds from the ROS times' integer ns: the same ticks give
+            # the same seconds whenever the course began.
+            t = (now - start).to_sec()
+            self.tick_times.append(t)
             self._last_tick = now
             self._check_robot_is_ours()
-            if fresh_at is None:
-                fresh_at = now
-            reading = None if blind else self.ticks.reading(self.tf, now)
-            fresh = reading is not None and (last_stamp is None
-                                             or reading[1] > last_stamp)
-            if fresh:
-                pose, last_stamp = reading
-                fresh_at = now
-            t = self.tick_times[-1]
-            if settle is not None:  # after the last step: stop, and watch
+            robot.tick(now, None if blind else self.ticks.reading(self.tf, now))
+            if settling is not None:
                 self.stop()
-                stops += 1
-                # A stale transform is held as in the course (CourseAborted
-                # past ~link_grace); the wait counts odometry's stamps.
-                sent = delivered(self.cmd_vel.unacknowledged(), stops, message_bytes)
-                if (not self.dropouts.held(now, fresh_at, last_stamp) and fresh
-                        and settle.update(pose, (last_stamp - start).to_sec(),
-                                          sent) != WAITING):
+                held = self.hold.held(now, robot)
+                if settling.done(held, robot, start, self.cmd_vel.unacknowledged()):
                     break
-                continue
-            if not blind and self.dropouts.held(now, fresh_at, last_stamp):
+            elif not blind and self.hold.held(now, robot):
                 self.publish(course.hold(t))
-                continue
-            if pose is None:  # found a moment ago; lookups may lag a cycle
-                continue
-            age = 0.0 if blind else (now - last_stamp).to_sec()
-            if fresh_at == now:  # a new transform this tick
-                self.tf_age.check(age, course.predicts, self.tf.odom_frame,
-                                  self.tf.followed)
-            self.stalls.check(course, start)
-            self.publish(course.update(pose, t, age))
-            for event in course.pop_events():
-                rospy.loginfo(self.robot + event)
-            if course.done:
-                self.stop()
-                self.stalls.check(course, start)
-                course.stalls.end(self.tick_times[-1])
-                if blind:
-                    break
-                settle = Settle(pose, t, self.settings['settle_time'],
-                                self.settings['settle_timeout'])
-        if not course.done or (settle is not None and settle.state == WAITING):
+            elif robot.pose is not None:  # None: found a moment ago, lookups may lag
+                self._steer(course, robot, now, start, blind)
+                if course.done:
+                    self._end_steps(course, start)
+                    if blind:
+                        break
+                    settling = Settling(Settle(robot.pose, t, self.settings['settle_time'],
+                                               self.settings['settle_timeout']),
+                                        self.cmd_vel.message_bytes())
+        if not course.done or (settling is not None and settling.waiting):
             raise rospy.ROSInterruptException('shutdown before the course ended')
         self.stop()
-        if settle is not None:
-            self._settled(course, settle)
-        return None if blind else pose
+        if settling is not None:
+            self._settled(course, settling.settle)
+        return None if blind else robot.pose
+
+    def _steer(self, course, robot, now, start, blind):
+        """One tick of the course's steps: the command for where the robot is."""
+        age = 0.0 if blind else robot.age(now)
+        if robot.fresh_at == now:  # a new transform this tick
+            self.tf_age.check(age, course.predicts, self.tf.odom_frame, self.tf.followed)
+        self.stalls.check(course, start)
+        self.publish(course.update(robot.pose, self.tick_times[-1], age))
+        for event in course.pop_events():
+            rospy.loginfo(self.robot + event)
+
+    def _end_steps(self, course, start):
+        """The last step is done: stop, and close the stall count."""
+        self.stop()
+        self.stalls.check(course, start)
+        course.stalls.end(self.tick_times[-1])
 
     def _settled(self, course, settle):
         """Say how the wait for a still robot after ``course`` ended, and
@@ -342,7 +333,7 @@ class MotionRunner(object):
         held = stalls_text(course.stalls, self.stalls.topic, self.stalls.heard())
         rospy.loginfo(summary_line(self.robot, course, final, self.tf.odom_frame,
                                    self.tick_times, held,
-                                   self.dropouts.summary()))
+                                   self.hold.summary()))
 
 
 def guarded(name, runner, work):

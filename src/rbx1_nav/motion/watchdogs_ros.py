@@ -6,10 +6,8 @@ a course runs, noticed and said (and, where it must, the robot stopped).
   watches it itself: rbx1_nav.motion.ticks_ros);
 * :func:`watch_master`: the ROS master gone, back, or restarted;
 * :class:`StallWarnings`: the robot's odometry velocities, fed to the
-  course's stall count, with a warning for each stall;
+  course's stall count (rbx1_nav.motion.loop.StallCheck);
 * :class:`TfAgeWarnings`: the transform steered by older than ~max_tf_age;
-* :class:`DropoutHold`: a stale transform ridden out (rbx1_nav.motion.dropouts),
-  robot held, or the course aborted past ~link_grace.
 """
 import collections
 import threading
@@ -23,7 +21,7 @@ from rbx1_nav.common.master_watch import gone_text, restarted_text
 from rbx1_nav.common.node_ros import CLOCK_WAIT, wait_for_clock
 from rbx1_nav.common.ros_time import no_clock_text
 from rbx1_nav.common.aborted import CourseAborted
-from rbx1_nav.motion.dropouts import HOLD, LOST, Dropouts
+from rbx1_nav.motion.loop import StallCheck
 
 WARN_PERIOD = 10.0  # s between warnings about an old transform or a stall
 
@@ -104,8 +102,9 @@ class StallWarnings(object):
     TOPIC = 'odom'
 
     def __init__(self, name, clock):
-        self.name = name
         self.clock = clock
+        self.stall_check = StallCheck(name, lambda text: rospy.logwarn_throttle(
+            WARN_PERIOD, text))
         # Drained by the control loop, so the course is only touched in
         # one thread.
         self.velocities = collections.deque(maxlen=1000)
@@ -130,18 +129,13 @@ class StallWarnings(object):
         """Feed the robot's measured velocities (and those the clock kept
         for this tick, in stamp order) to ``course.stalls``, their stamps
         in seconds from ``start`` (the course's first tick, as the course
-        counts time); warn (throttled) of each spell it stood still while
-        commanded to move."""
+        counts time)."""
         self.velocities.extend(self.clock.take(self.topic, key=lambda item: item[0]))
+        self.stall_check.check(course, start, self._drain())
+
+    def _drain(self):
         while self.velocities:
-            stamp, linear, angular = self.velocities.popleft()
-            spell = course.stalls.velocity((stamp - start).to_sec(), linear, angular)
-            if spell is not None:
-                rospy.logwarn_throttle(
-                    WARN_PERIOD, '%s: the robot stood still for %.2f s while '
-                    'commanded to move: stopped by its watchdog (commands late '
-                    'or lost on the way to it?) or held (motors off, bumper)'
-                    % (self.name, spell))
+            yield self.velocities.popleft()
 
 
 class TfAgeWarnings(object):
@@ -163,49 +157,3 @@ class TfAgeWarnings(object):
                 '%s' % (self.name, odom_frame, base_frame, age, limit,
                         'precise mode adds the commands sent since' if predicts
                         else 'the course steers by where the robot was'))
-
-
-class DropoutHold(object):
-    """One course's ride through stale transforms (rbx1_nav.motion.dropouts):
-    ``where`` names the transform, ``stop()`` stops the robot."""
-
-    def __init__(self, name, where, timeout, grace, stop):
-        self.name = name
-        self.where = where
-        self.stop = stop
-        self.dropouts = Dropouts(timeout, grace)
-
-    def held(self, now, fresh_at, stamp=None):
-        """True while the robot is to be held (commanded zero) at ``now``,
-        the transform fresh last at ``fresh_at``, its newest ``stamp``
-        (rospy.Time; None before the first); CourseAborted past
-        ~link_grace."""
-        tick = self.dropouts.tick(now.to_sec(), fresh_at.to_sec(),
-                                  None if stamp is None else stamp.to_sec())
-        if tick.state == LOST:
-            self.stop()
-            raise CourseAborted(
-                '%s (limit ~tf_timeout %.2f s + ~link_grace %.2f s): robot driver or '
-                'simulator gone, or the link to the robot down? Stopped the robot.' % (
-                    self._stale(now, fresh_at, tick), self.dropouts.timeout,
-                    self.dropouts.grace))
-        if tick.began:
-            rospy.logwarn('%s: %s (~tf_timeout): a link dropout? Holding the robot '
-                          '(zero velocity) and waiting up to ~link_grace %.1f s for it',
-                          self.name, self._stale(now, fresh_at, tick), self.dropouts.grace)
-        elif tick.ended is not None:
-            rospy.loginfo('%s: %s is back after %.2f s; carrying on from where '
-                          'it says the robot is', self.name, self.where, tick.ended)
-        return tick.state == HOLD
-
-    def _stale(self, now, fresh_at, tick):
-        """How the transform is stale: not updated, or stamped long ago."""
-        if fresh_at == now:  # it came this tick, stamped long ago
-            return ('%s is %.2f s old by its stamp though still arriving (a link '
-                    'holding messages back, or the robot\'s clock behind this '
-                    'one\'s?)' % (self.where, tick.stale))
-        return '%s has not been updated for %.2f s' % (self.where, tick.stale)
-
-    def summary(self):
-        """The dropouts ridden out, for the summary line."""
-        return self.dropouts.summary()
