@@ -2,8 +2,8 @@
 
 Each node file in nodes/ says what it does (its docstring) and declares its
 private parameters (``PARAMS``, rbx1_nav.common.params.Param): ``--help``
-prints them (params.usage), this page shows them as Markdown
-(params.markdown), so the two cannot drift. A node file is imported by
+prints them (params_help.usage), this page shows them as Markdown
+(params_help.markdown), so the two cannot drift. A node file is imported by
 path; its ``if __name__ == '__main__'`` guard keeps it from running.
 
     make docs                                 # the workspace built
@@ -17,7 +17,7 @@ import importlib.util
 import os
 import sys
 
-from rbx1_nav.common import params
+from rbx1_nav.common import params_help
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PAGE = os.path.join(ROOT, 'docs', 'parameters.md')
@@ -109,7 +109,7 @@ def render():
     sections = [HEADER]
     for path in node_files():
         node = load(path)
-        sections.append(params.markdown(os.path.basename(path), node.__doc__,
+        sections.append(params_help.markdown(os.path.basename(path), node.__doc__,
                                         node.PARAMS))
     return '\n'.join(sections)
 

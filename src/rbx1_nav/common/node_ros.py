@@ -82,7 +82,8 @@ def exit_if_help(specs, doc):
     """Print usage (``doc``, the node's docstring, and ``specs``) and exit 0
     if the command line asks for help."""
     if any(arg in ('-h', '--help') for arg in sys.argv[1:]):
-        print(params.usage(doc, specs))
+        from rbx1_nav.common.params_help import usage
+        print(usage(doc, specs))
         raise SystemExit(0)
 
 

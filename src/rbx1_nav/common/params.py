@@ -21,9 +21,9 @@ from collections import namedtuple
 from rbx1_nav.transform_utils import strip_leading_slash
 
 __all__ = ['number', 'integer', 'flag', 'frame', 'text', 'number_list', 'pairs',
-           'names', 'raw', 'POSITIVE', 'Param', 'param', 'read_all', 'describe', 'unknown', 'usage',
+           'names', 'raw', 'POSITIVE', 'Param', 'param', 'read_all', 'describe', 'unknown',
            'bounds', 'clear_text', 'check_all', 'unit_text', 'UNIT_NAMES', 'start_text',
-           'command_line', 'leftovers', 'typos', 'markdown']
+           'command_line', 'leftovers', 'typos']
 
 
 def _as_float(name, value):
@@ -402,54 +402,3 @@ def bounds(spec):
         return ''
     return _range_text(options.get('minimum'), options.get('maximum'),
                        options.get('allow_zero', True))
-
-
-def usage(doc, specs):
-    """``--help`` text: the node's docstring and a table of ``specs``, one
-    line each: name, default, what it does and its bounds.
-
-    The table is the one list of a node's parameters; the docstring says
-    what the node does, its topics and exit status.
-    """
-    lines = [(doc or '').strip(), '',
-             'Private parameters (rosrun: _name:=value; launch: <param>):']
-    width = max([len(spec.name) for spec in specs] + [4])
-    for spec in specs:
-        default = ('%s %s' % (_shown(spec.default, spec), spec.unit)).strip()
-        limits = bounds(spec)
-        lines.append(('  ~%-*s  %-18s %s' % (width, spec.name, default, spec.doc
-                                             + (' [%s]' % limits if limits else ''))
-                      ).rstrip())
-    return '\n'.join(lines)
-
-
-def _summary(doc):
-    """The first paragraph of a node's docstring, one line, without the
-    'name.py - ' or 'name: ' it may start with."""
-    first = ' '.join((doc or '').strip().split('\n\n', 1)[0].split())
-    first = re.sub(r'^[a-z_]+(\.py)?( -|:) ', '', first)
-    return first[:1].upper() + first[1:]
-
-
-def _cell(text):
-    """``text`` safe in a Markdown table cell."""
-    return text.replace('|', '\\|')
-
-
-def markdown(title, doc, specs):
-    """A node's section of docs/parameters.md, from what --help prints
-    (:func:`usage`): a heading ``title``, the summary from ``doc`` (the
-    node's docstring), the rest of ``doc`` as text, and a table of
-    ``specs``: parameter, default, unit, what it does, bounds."""
-    rest = (doc or '').strip().split('\n\n', 1)[1:]
-    lines = ['## `%s`' % title, '', _summary(doc), '']
-    if rest:
-        lines += ['```text', rest[0].strip('\n'), '```', '']
-    lines += ['| parameter | default | unit | what it does | bounds |',
-              '|---|---|---|---|---|']
-    for spec in specs:
-        limits = bounds(spec)
-        lines.append('| `~%s` | `%s` | %s | %s | %s |' % (
-            spec.name, _cell(_shown(spec.default, spec)), _cell(spec.unit),
-            _cell(spec.doc), _cell(limits)))
-    return '\n'.join(lines) + '\n'

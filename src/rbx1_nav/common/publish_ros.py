@@ -1,5 +1,5 @@
 """Publishing helpers shared by every node that keeps time under lockstep:
-ROS times as integer nanoseconds, a message's sender and connection, a publisher that
+ROS times as integer nanoseconds, a message's connection, a publisher that
 writes before publish() returns, a publish that is quiet once rospy shuts
 down, and a node's ROS time kept by the node itself.
 """
@@ -11,7 +11,7 @@ import rospy
 from rbx1_nav.common.rospy_private_ros import (connection_header, take_clock_subscriber,
                                               transport_header)
 
-__all__ = ['from_ns', 'keep_own_time', 'link', 'publish', 'sender',
+__all__ = ['from_ns', 'keep_own_time', 'link', 'publish',
            'synchronous_publisher', 'to_ns']
 
 
@@ -23,11 +23,6 @@ def to_ns(stamp):
 def from_ns(ns):
     """Integer nanoseconds -> rospy.Time."""
     return rospy.Time(*divmod(int(ns), 1000000000))
-
-
-def sender(msg):
-    """The node name that published ``msg`` (rospy keeps it per message)."""
-    return connection_header(msg)['callerid']
 
 
 _LINKS = itertools.count(1)

@@ -1,4 +1,4 @@
-"""Every use of rospy's private names, in one place (issue 47).
+"""Every use of rospy's private names, in one place.
 
 rospy's public API (rospy.* and the documented classes) has no way to do
 what the functions below do. Each says why no public API serves and what
@@ -24,7 +24,7 @@ import rospy.rostime
 from rospy.impl.masterslave import ROSHandler
 from rospy.impl.registration import get_service_manager, get_topic_manager
 
-__all__ = ['connection_header', 'connections', 'subscribed_connections',
+__all__ = ['connection_header', 'sender', 'connections', 'subscribed_connections',
            'published_connections', 'publisher_name', 'subscriber_name',
            'transport_header', 'unsent_bytes', 'take_clock_subscriber',
            'set_rostime', 'shutdown_request_handler',
@@ -39,6 +39,11 @@ def connection_header(msg):
     hears every publisher); if rospy stops setting ``_connection_header``
     this raises AttributeError in every callback that asks."""
     return msg._connection_header
+
+
+def sender(msg):
+    """The node that published ``msg`` (its connection header's callerid)."""
+    return connection_header(msg)['callerid']
 
 
 def connections(topic):

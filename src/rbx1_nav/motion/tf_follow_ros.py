@@ -10,7 +10,7 @@ import rospy
 import tf2_ros
 
 from rbx1_nav.common.aborted import CourseAborted
-from rbx1_nav.common.publish_ros import sender
+from rbx1_nav.common.rospy_private_ros import sender
 from rbx1_nav.motion.deadline_ros import Deadline
 from rbx1_nav.transform_utils import Pose2D, quat_to_angle
 

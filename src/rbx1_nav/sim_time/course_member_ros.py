@@ -29,7 +29,8 @@ import rospy
 import yaml
 
 from rbx1_nav.common.aborted import CourseAborted
-from rbx1_nav.common.publish_ros import from_ns, sender, synchronous_publisher, to_ns
+from rbx1_nav.common.publish_ros import from_ns, synchronous_publisher, to_ns
+from rbx1_nav.common.rospy_private_ros import sender
 from rbx1_nav.sim_time import member_ros as lockstep
 from rbx1_nav.sim_time.member import BACK, aligned
 

@@ -13,9 +13,10 @@ from rosgraph_msgs.msg import Clock
 
 from rbx1_nav.sim_time.member import RESEND, Report
 from rbx1_nav.sim_time.member_ros import GRANT_TOPIC, REPORT_TOPIC
-from rbx1_nav.common.publish_ros import (from_ns, keep_own_time, publish, sender,
+from rbx1_nav.common.publish_ros import (from_ns, keep_own_time, publish,
                                          synchronous_publisher, to_ns)
-from rbx1_nav.common.rospy_private_ros import connections, publisher_name, set_rostime
+from rbx1_nav.common.rospy_private_ros import (connections, publisher_name, sender,
+                                              set_rostime)
 from rbx1_nav.msg import LockstepGrant, LockstepReport
 from rbx1_nav.sim_time.lockstep import Owner
 

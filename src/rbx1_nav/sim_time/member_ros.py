@@ -17,9 +17,9 @@ from rbx1_nav.sim_time.member import (LOST_MESSAGES, REPEAT, RESEND, STALE, STAL
                                              WAIT_WARNING, Follower, Inbox, MessageLedger,
                                              Reminder)
 from rbx1_nav.common.publish_ros import (delivered, from_ns, keep_own_time, link, publish,
-                                         sender, synchronous_publisher, to_ns)
+                                         synchronous_publisher, to_ns)
 from rbx1_nav.common.master_ros import node_answers, topic_graph
-from rbx1_nav.common.rospy_private_ros import (published_connections, publisher_name,
+from rbx1_nav.common.rospy_private_ros import (published_connections, publisher_name, sender,
                                               set_rostime, subscribed_connections,
                                               subscriber_name)
 from rbx1_nav.sim_time.stepping_ros import enabled
