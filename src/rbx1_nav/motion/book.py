@@ -1,22 +1,8 @@
 """The courses of ROS By Example's motion nodes, with the book's defaults.
 
-No rospy here. Each of the book's course nodes is one :class:`BookCourse`:
-its parameters (the book's values as defaults), its control rate and how
-to build its :class:`rbx1_nav.motion.course.Course` from the values read:
-
-* :data:`OUT_AND_BACK` (``nodes/odom_out_and_back.py``): [drive
-  ``goal_distance``, pause, turn ``goal_angle``, pause] x ``legs``, closed
-  loop on odometry; ``~angular_tolerance`` in degrees, as in the book;
-* :data:`NAV_SQUARE` (``nodes/nav_square.py``): the same, four legs,
-  ``~goal_angle`` and ``~angular_tolerance`` in degrees;
-* :data:`TIMED_OUT_AND_BACK` (``nodes/timed_out_and_back.py``): the
-  out-and-back open loop on time, one control period per cycle.
-
-The rules for drives, turns, the tolerance and precise mode are those of
-:mod:`rbx1_nav.motion.steps` and :mod:`rbx1_nav.motion.precise`; the
-courses are :func:`rbx1_nav.motion.course.legs_course`. The nodes run them
-through ``rbx1_nav.motion.runner_ros``. For tests, :class:`CourseConfig`
-and :class:`OutAndBack` hold the out-and-back with its angles in radians.
+No rospy here. One :class:`BookCourse` per course node, angles in degrees
+where the book's node takes degrees. :class:`CourseConfig` and
+:class:`OutAndBack` hold the out-and-back in radians, for tests.
 """
 import math
 from collections import namedtuple
@@ -29,11 +15,9 @@ __all__ = ['BookCourse', 'OUT_AND_BACK', 'NAV_SQUARE', 'TIMED_OUT_AND_BACK',
            'CourseConfig', 'OutAndBack', 'expected_end_pose', 'COURSE_PARAMS']
 
 BookCourse = namedtuple('BookCourse', 'params rate build')
-BookCourse.__doc__ = """One of the book's course nodes.
-
-params: its course's parameters (the runner's come on top); rate (Hz): the
-book's control rate; build(values): its Course from the values read.
-"""
+BookCourse.__doc__ = """One of the book's course nodes: its course's params (the
+runner's come on top), the book's control rate (Hz) and build(values), its
+Course from the values read."""
 
 
 def _out_and_back_params(tolerance_unit):
@@ -53,11 +37,8 @@ COURSE_PARAMS = _out_and_back_params('rad')
 
 
 class CourseConfig(object):
-    """The course's settings, with the book's values as defaults.
-
-    Angles are in radians here. A negative ``goal_distance`` drives
-    backwards, a negative ``goal_angle`` turns clockwise.
-    """
+    """The out-and-back's settings (angles in radians), the book's values
+    as defaults."""
 
     def __init__(self, **settings):
         for spec in COURSE_PARAMS:
@@ -85,10 +66,10 @@ class CourseConfig(object):
 
 def course_steps(config):
     """The steps of the course a validated ``config`` describes."""
-    values = vars(config)
     return legs_course(config.goal_distance, config.goal_angle, config.legs,
                        config.linear_speed, config.angular_speed,
-                       config.angular_tolerance, config.pause, approach(values))
+                       config.angular_tolerance, config.pause,
+                       approach(vars(config)))
 
 
 def expected_end_pose(start, config):
@@ -97,10 +78,7 @@ def expected_end_pose(start, config):
 
 
 class OutAndBack(Course):
-    """The out-and-back course as a :class:`rbx1_nav.motion.course.Course`.
-
-    Adds ``config`` (the checked settings) and ``leg`` (1-based) to it.
-    """
+    """The out-and-back Course, with its checked ``config`` and ``leg``."""
 
     def __init__(self, config=None):
         self.config = (config or CourseConfig()).validate()
@@ -120,7 +98,6 @@ def _out_and_back(values):
 
 
 OUT_AND_BACK = BookCourse(_out_and_back_params('deg'), 20.0, _out_and_back)
-
 
 SIDES = 4  # nav_square's legs
 

@@ -1,9 +1,6 @@
 """What a course step hands the robot: a velocity :class:`Command`, and the limits on it.
 
-No rospy here. Every step of a course (:mod:`rbx1_nav.motion.steps`)
-returns a :class:`Command` each control cycle; :data:`STOP` stands the
-robot still. The limits below bound the parameters of every motion node
-(:func:`rbx1_nav.motion.course.legs_params`, teleop) and
+No rospy here. The limits bound the parameters of every motion node;
 :func:`pose_error` measures how far a course ended from where it should.
 """
 import math

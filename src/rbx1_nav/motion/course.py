@@ -1,23 +1,7 @@
 """The course: a list of steps run one control cycle at a time, the logic of every motion node.
 
-No rospy here. A course is a list of steps (:mod:`rbx1_nav.motion.steps`:
-drive, turn, pause; closed loop on odometry or open loop on time), run one
-after the other. The ROS side (``rbx1_nav.motion.runner_ros``) calls
-:meth:`Course.update` once per control cycle with the latest pose and ROS
-time and publishes the :class:`rbx1_nav.motion.command.Command` it
-returns; tests drive the same class with a simulated robot and a fake
-clock. The book's courses (:mod:`rbx1_nav.motion.book`) are lists of these
-steps: out-and-back is [drive 1 m, turn pi] x 2, the square [drive 1 m,
-turn pi/2] x 4, a linear calibration [drive d], an angular one [turn 2 pi];
-:func:`legs_course` builds them and :func:`legs_params` declares their
-parameters.
-
-The course keeps what the steps share: the yaw turned since the start
-(the turns count on it), the commands in flight (a course with a precise
-step steers by where the robot will be when its command lands,
-:class:`rbx1_nav.motion.in_flight.InFlight`), the stalls
-(:class:`rbx1_nav.motion.stalls.Stalls`) and the creep speeds precise mode
-learned (:class:`rbx1_nav.motion.precise.Breakaway`).
+No rospy here: the runner (``runner_ros``) calls :meth:`Course.update` each
+control cycle and publishes the Command; tests drive it with a fake clock.
 """
 import math
 from collections import namedtuple
@@ -36,13 +20,9 @@ from rbx1_nav.transform_utils import Pose2D, normalize_angle
 __all__ = ['Course', 'Reading', 'legs_course', 'legs_params']
 
 Reading = namedtuple('Reading', 'stamp pose delay held')
-Reading.__doc__ = """What odometry said last, as a precise step's stall watch reads it.
-
-stamp (s) and pose: the pose last fed in, as read (before any
-prediction); delay (s): the command delay assumed
-(:attr:`rbx1_nav.motion.in_flight.InFlight.delay`); held (s): the last
-time :meth:`Course.hold` was called.
-"""
+Reading.__doc__ = """What odometry said last: the pose last fed in, as read
+(before any prediction), its stamp (s), the command delay assumed (s) and
+the last time :meth:`Course.hold` was called (s)."""
 
 
 #: Where the book's course nodes differ in goal_angle's unit, as they do.
@@ -57,12 +37,8 @@ ANGLE_NOTES = {
 def legs_params(linear_speed, goal_distance, angular_speed, goal_angle,
                 angle_unit='rad', angular_tolerance=None, tolerance_unit='deg',
                 legs=None, pause=1.0):
-    """The parameters of a :func:`legs_course`, with these defaults.
-
-    ``goal_angle`` is in ``angle_unit``, ``angular_tolerance`` in
-    ``tolerance_unit`` ('rad' or 'deg'; the book's nodes use degrees for
-    the tolerance); a tolerance or leg count of None is not a parameter.
-    """
+    """The parameters of a :func:`legs_course`, with these defaults, angles
+    in 'rad' or 'deg'; a tolerance or leg count of None is no parameter."""
     def in_unit(angle, unit):
         return math.degrees(angle) if unit == 'deg' else angle
 
@@ -94,26 +70,11 @@ def legs_params(linear_speed, goal_distance, angular_speed, goal_angle,
 
 
 class Course(object):
-    """Run a list of steps one control cycle at a time.
-
-    Call :meth:`update` with the latest pose and the time (seconds, any
-    origin); it returns the :class:`rbx1_nav.motion.command.Command` to
-    send until the next call.
-    :attr:`done` turns true after the last step; from then on every command
-    is :data:`STOP`. :meth:`pop_events` hands over progress lines for the
-    log. ``yaw_total`` is the yaw turned since the start (unwrapped),
-    ``turned`` and ``distance`` the progress of the latest turn and drive.
-    ``in_flight`` holds the commands it returned; a course with a precise
-    step steers by its predictions. ``stalls`` counts the spells the robot
-    stood still while commanded to move, from the velocities fed to it;
-    ``breakaway`` holds the creep speeds precise steps learned
-    (:class:`Breakaway`; a runner may set its own before the first update).
-
-    Steps read ``yaw_total`` and ``motion_end_yaw`` (the yaw total when the
-    latest drive or turn ended); precise mode reads :meth:`reading` and
-    :meth:`settled` and reports to ``breakaway``, ``stalls`` and
-    :meth:`log` (:class:`rbx1_nav.motion.precise.PreciseMode`).
-    """
+    """Run a list of steps one control cycle at a time (STOP once done),
+    keeping what steps share: ``yaw_total`` (unwrapped, since the start),
+    ``motion_end_yaw`` (its value when the latest drive or turn ended),
+    ``in_flight``, ``stalls`` and ``breakaway`` (a runner may set its own
+    before the first update, to keep creep speeds across courses)."""
 
     def __init__(self, steps):
         self.steps = list(steps)
@@ -187,8 +148,8 @@ class Course(object):
         return pose
 
     def update(self, pose, now, age=0.0):
-        """Advance the course with a new pose (Pose2D) at time ``now`` (s);
-        ``age`` (s) is how old the pose is."""
+        """The Command to send until the next call, given a new pose (Pose2D)
+        ``age`` s old at time ``now`` (s, any origin)."""
         pose, age = Pose2D(*(float(v) for v in pose)), float(age)
         if not all(math.isfinite(v) for v in pose + (age,)):
             raise ValueError('pose has a non-finite value: %r (age %r)'
@@ -203,9 +164,8 @@ class Course(object):
         return command
 
     def hold(self, now):
-        """STOP at ``now`` (s) without a pose: the transform is stale (a
-        link dropout). Recorded like any command, so predictions and the
-        stall count know the robot was told to stand still."""
+        """STOP at ``now`` (s) without a pose (a link dropout), recorded so
+        predictions and the stall count know the robot was told to stop."""
         self._now = self.held = float(now)
         self.in_flight.record(self._now, STOP)
         return STOP
@@ -215,10 +175,9 @@ class Course(object):
         return Reading(self.stamp, self.raw, self.in_flight.delay, self.held)
 
     def settled(self, sent, settle, longest):
-        """True once the pose steered by is stamped ``settle`` s after the
-        robot ran the command sent at ``sent`` (s) and after the last motion
-        its measured velocities showed (see :class:`Stalls`), or ``longest``
-        s after it ran the command (odometry that never reads zero)."""
+        """True once the pose is stamped ``settle`` s after the robot ran the
+        command sent at ``sent`` (s) and after the last motion measured, or
+        ``longest`` s after it ran it (odometry that never reads zero)."""
         ran = sent + self.in_flight.delay
         still = max(ran, self.stalls.moved or ran) + settle
         return self.stamp >= min(still, ran + longest) - 1e-9
@@ -253,12 +212,9 @@ class Course(object):
 
 def legs_course(distance, angle, legs, linear_speed, angular_speed,
                 tolerance=0.0, pause=0.0, approach=None, period=None):
-    """[drive ``distance``, pause, turn ``angle``, pause] x ``legs``.
-
-    Closed loop on odometry; with a control ``period`` (s), open loop on
-    time instead. ``tolerance`` (rad) applies to closed-loop turns, as in
-    the book; ``approach`` (an :class:`Approach`) selects precise mode.
-    """
+    """[drive ``distance``, pause, turn ``angle``, pause] x ``legs``, closed
+    loop on odometry, or open loop with a control ``period`` (s);
+    ``tolerance`` (rad): closed-loop turns'; ``approach``: precise mode."""
     if angle and tolerance >= abs(angle) and approach is None and period is None:
         raise ValueError('angular_tolerance (%g deg) must be smaller than the '
                          'turn (%g deg), or every turn ends before it starts'

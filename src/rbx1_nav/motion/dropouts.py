@@ -1,20 +1,10 @@
 """Riding out a link that drops out: Wi-Fi between a workstation and its robot.
 
-A course steers by the robot's transform. When that stops updating for
-``timeout`` seconds (~tf_timeout), or what arrives is stamped that long
-ago (a link holding messages back), the link has dropped out, or the
-driver is gone. :class:`Dropouts` tells the control loop what to do on
-each tick:
-
-* FRESH: steer as usual;
-* HOLD: the transform is stale: command zero (the robot's own watchdog
-  stops it anyway when the commands are lost too) and wait, up to
-  ``grace`` seconds more (~link_grace), for it to come back; the course
-  then carries on from the pose tf gives;
-* LOST: stale for ``timeout + grace``: give up, robot stopped.
-
-It counts the dropouts ridden out and their seconds, for the summary
-line. Times are seconds on any one clock (ROS time in the nodes).
+A transform not updated for ``timeout`` s (~tf_timeout), or stamped that
+long ago, means the link dropped out or the driver is gone. Each tick
+:class:`Dropouts` says FRESH (steer), HOLD (command zero and wait up to
+``grace`` s more, ~link_grace) or LOST (stale for ``timeout + grace``:
+give up). Times are seconds on any one clock.
 """
 from collections import namedtuple
 
@@ -27,7 +17,7 @@ Tick = namedtuple('Tick', 'state began ended stale')
 
 
 class Dropouts(object):
-    """The transform's dropouts, tick by tick (see the module docstring)."""
+    """The transform's dropouts, tick by tick, and those ridden out."""
 
     def __init__(self, timeout, grace):
         if not (timeout > 0.0 and grace >= 0.0):
@@ -40,9 +30,8 @@ class Dropouts(object):
         self._since = None  # when the transform was last fresh, in a dropout
 
     def tick(self, now, fresh_at, stamp=None):
-        """The state at ``now``, the transform last updated at ``fresh_at``,
-        its newest ``stamp`` (if known) no later: its age is from the
-        earlier of the two."""
+        """The Tick at ``now``; the transform's age counts from the earlier of
+        its last update ``fresh_at`` and its newest ``stamp`` (if known)."""
         if stamp is not None:
             fresh_at = min(fresh_at, stamp)
         stale = now - fresh_at

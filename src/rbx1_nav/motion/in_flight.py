@@ -1,11 +1,7 @@
 """The commands in flight: where a slow link's commands will take the robot.
 
-No rospy here. A course (:class:`rbx1_nav.motion.course.Course`) records
-every command it returns in an :class:`InFlight`; with a precise step
-(:mod:`rbx1_nav.motion.precise`) it steers by :meth:`InFlight.predict`,
-where the robot will be when its command lands, not by where an old pose
-says it was. :class:`rbx1_nav.motion.stalls.Stalls` asks it which command
-the robot ran at a given time.
+No rospy here. A Course records its commands in an :class:`InFlight`; a
+precise one steers by :meth:`InFlight.predict`; Stalls asks what ran when.
 """
 import bisect
 from collections import deque
@@ -19,13 +15,11 @@ __all__ = ['InFlight']
 class InFlight(object):
     """The commands sent, and where they will have taken the robot.
 
-    A pose read over a slow link is ``age`` seconds old, and the command
-    sent now takes effect some ``delay`` later. From the pose's stamp until
-    then the robot follows the commands sent from ``stamp - delay`` until
-    now: :meth:`predict` adds their arcs onto the pose. The pose alone
-    cannot tell the command delay, so it is taken as the link's delay the
-    other way: the smallest age of the last ``memory`` readings (a reading
-    is older than the link's delay when it waited for the control tick).
+    A pose read over a slow link is ``age`` s old and the command sent now
+    lands ``delay`` later: :meth:`predict` adds the arcs of the commands
+    sent since ``stamp - delay``. The delay is taken as the link's the other
+    way: the smallest age of the last ``memory`` readings (a reading that
+    waited for the control tick is older).
     """
 
     KEEP = 10.0  # s of commands kept

@@ -1,20 +1,8 @@
 """Precise mode: how a closed-loop drive or turn ends within millimetres.
 
-No rospy here. The steps (:mod:`rbx1_nav.motion.steps`) run on odometry;
-with an :class:`Approach` each hands its cycles to a :class:`PreciseMode`,
-which
-
-* slows down near the goal (speed proportional to what remains, never
-  below a creep speed) and ignores the step's tolerance;
-* checks the goal once the robot stands still, going back or on when it
-  missed;
-* raises its creep speed where the robot will not move at it
-  (:class:`Breakaway`).
-
-The drive also holds its starting heading (``Drive.moving``), and the
-course steers a precise step by where the robot will be when its command
-lands (:class:`rbx1_nav.motion.in_flight.InFlight`). The ROS side reads
-:data:`PRECISE_PARAMS` in every closed-loop course node.
+No rospy here. With an :class:`Approach`, a closed-loop step hands its
+cycles to a :class:`PreciseMode`; docs/courses.md, "Precise mode", has
+the user's view.
 """
 import math
 from collections import namedtuple
@@ -29,15 +17,9 @@ __all__ = ['Approach', 'PRECISE_PARAMS', 'approach', 'Breakaway', 'PreciseMode']
 
 Approach = namedtuple('Approach', 'gain heading_gain min_linear_speed '
                                   'min_angular_speed')
-Approach.__doc__ = """Precise mode's settings.
+Approach.__doc__ = """Precise mode's settings (see PRECISE_PARAMS)."""
 
-gain (1/s): speed = gain * what remains, clamped between the creep speed
-(min_linear_speed m/s, min_angular_speed rad/s) and the step's speed;
-heading_gain (1/s) turns a drive's heading error into a turn rate.
-"""
-
-
-# Precise mode's settings, shared by every closed-loop course node.
+# Shared by every closed-loop course node.
 PRECISE_PARAMS = (
     param('precise', False, params.flag,
           doc='slow down near each goal, hold heading, ignore the tolerance, '
@@ -67,18 +49,11 @@ def approach(values):
 class Breakaway(object):
     """Precise mode's creep speeds, raised where the robot will not move.
 
-    Real wheels stick below a breakaway speed (static friction, a motor
-    deadband; a skid-steer base turning on the spot needs far more), and a
-    precise step creeping below it would wait for ever. When a precise
-    step slowing down to its goal has commanded a speed below its own for
-    STILL s since the command reached the robot, and odometry moved under a
-    tenth of that (as :class:`rbx1_nav.motion.stalls.Stalls` counts a
-    stall), the step raises its creep speed to FACTOR times the command (at
-    most the step's speed), and again until the robot moves. Then the
-    course logs the new minimum once, and every later drive (or turn) of
-    the course creeps at it or faster: ``speeds`` holds it per kind. A
-    runner hands the same object to each course it drives, so later
-    courses keep it too.
+    Wheels stick below a breakaway speed (friction, a motor deadband, a
+    skid-steer base turning on the spot): a creep that moved the robot under
+    a tenth of itself for STILL s after it landed is raised FACTOR times
+    (at most to the step's speed) until it moves; ``speeds`` keeps the
+    minimum per kind for every later step and course sharing this object.
     """
 
     STILL = 0.5  # s
@@ -109,25 +84,10 @@ class Breakaway(object):
 class PreciseMode(object):
     """Precise mode of one closed-loop step: approach, check, correct, unstick.
 
-    Each cycle the step measures what remains of its goal (negative past
-    it) and hands it to :meth:`update`, which returns the command, or None
-    once the step is over. The approach runs at ``gain`` x what remains,
-    between the creep speed (:meth:`creep`) and the step's speed, raised
-    where the robot will not move (:meth:`_unstick`, :class:`Breakaway`).
-    Past the goal it stops and checks on a still robot: once the stop has
-    reached the robot and SETTLE s have passed since the last motion its
-    odometry showed (LONGEST s at most), a goal missed by more than CHECK s
-    of creep is approached again, from whichever side, at most
-    MAX_CORRECTIONS times (a late stop on a slow link, a robot that coasts).
-
-    It sees its step through five names: ``kind`` (DRIVE or TURN),
-    ``speed`` (the step's, rad/s or m/s), ``advance(before, after)`` (the
-    progress between two poses along the goal), ``moving(pose, speed)``
-    (the command at a speed along the goal, negative: back) and
-    ``end(course, now, corrections, missed=None)``; and its course through
-    ``settled``, ``reading()`` (the pose odometry last gave, its stamp, the
-    command delay and the last hold), ``breakaway``, ``stalls`` and
-    ``log`` (see :class:`rbx1_nav.motion.course.Course`).
+    Past the goal it stops and checks on a still robot (``Course.settled``);
+    a goal missed by more than CHECK s of creep is approached again, from
+    whichever side, at most MAX_CORRECTIONS times (a late stop on a slow
+    link, a robot that coasts).
     """
 
     SETTLE = 0.1  # s
@@ -143,8 +103,7 @@ class PreciseMode(object):
         self.mark = None  # (time sent, pose): where a stall watch began
 
     def update(self, step, course, pose, now, remaining):
-        """The command for ``step``, ``remaining`` short of its goal, or
-        None when it is over."""
+        """The command for ``step``, ``remaining`` short of its goal; None: over."""
         if self.stopped is None:
             if remaining * self.sense > 0.0:
                 return self._approach(step, course, pose, now, remaining)
@@ -167,23 +126,20 @@ class PreciseMode(object):
         return step.moving(pose, self.sense * speed)
 
     def creep(self, step, breakaway):
-        """The creep speed: precise mode's, or the breakaway speed learned
-        (:class:`Breakaway`), at most the step's speed."""
+        """The creep speed, or the learned breakaway one, at most the step's."""
         minimum = (self.approach.min_linear_speed if step.kind == DRIVE
                    else self.approach.min_angular_speed)
         return min(step.speed, max(minimum, breakaway.speeds[step.kind]))
 
     def _unstick(self, step, course, now, speed):
         """``speed``, or more where the robot stood still at it
-        (:class:`Breakaway`), judged on the poses odometry gave, not on
-        their predictions."""
+        (:class:`Breakaway`), judged on poses as read, not predicted."""
         read = course.reading()
         mark = self.mark
         if mark is None or read.held >= mark[0]:  # a new watch
             self.mark = (now, read.pose)
             return speed
-        landed = mark[0] + read.delay
-        elapsed = read.stamp - landed
+        elapsed = read.stamp - (mark[0] + read.delay)  # since it landed
         if elapsed < Breakaway.STILL:
             return speed
         self.mark = (now, read.pose)

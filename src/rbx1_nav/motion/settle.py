@@ -1,25 +1,12 @@
 """After a course's last step: wait for a still robot, then take its pose.
 
-No rospy here. A command the link delayed (a creep command stuck behind
-lost packets on a lossy link) can reach the robot after the course has
-ended and move it until its cmd_vel watchdog stops it, after the
-course read its final pose. So the runner (rbx1_nav.motion.runner_ros)
-keeps commanding zero after the last step and feeds each pose odometry
-gives to a :class:`Settle` until the robot has stood still for
-``settle_time`` s of odometry's stamps (longer than the robot's
-watchdog, so a late command shows as motion within it) after the
-course ended, and after the robot's host has acknowledged every command
-sent before the end (:func:`delivered`: a command stuck behind lost
-packets can be held back by TCP for seconds); that pose is the one the
-summary reports. When odometry
-stamped ``timeout`` s after the end has not stood still that long, it
-gives up: the robot did not settle. Both count odometry's stamps, not the
-clock: while the transform is stale (a link dropout) nothing can be
-judged, and the runner's dropout hold (~link_grace) bounds that wait.
-
-:meth:`Settle.moved` says how far the robot moved after the course's own
-end; :func:`moved_text` words it when that is more than REPORT_M /
-REPORT_RAD.
+No rospy here. A command the link delayed can move the robot after the
+course read its final pose, so the runner keeps commanding zero and feeds
+each pose to a :class:`Settle` until odometry has stood still for
+``settle_time`` s after the end and after every command sent before it
+was acknowledged (:func:`delivered`: TCP can hold one back for seconds).
+Stamps count, not the clock: a stale transform cannot be judged, and the
+runner's dropout hold (~link_grace) bounds that wait.
 """
 import math
 from collections import namedtuple
@@ -33,9 +20,7 @@ __all__ = ['GAVE_UP', 'delivered', 'LINEAR_EPS', 'ANGULAR_EPS', 'REPORT_M', 'REP
 
 WAITING, STILL, GAVE_UP = 'waiting', 'still', 'gave up'
 
-#: A pose that changes less than this from where a still spell began is
-#: still (odometry of a standing robot reads the same pose, give or take
-#: rounding).
+#: Still: within this of where a still spell began (rounding).
 LINEAR_EPS = 2e-5  # m (0.02 mm)
 ANGULAR_EPS = math.radians(0.002)  # rad
 #: Motion after the course's end worth a warning.
@@ -53,19 +38,12 @@ SETTLE_PARAMS = (
 )
 
 Moved = namedtuple('Moved', 'distance yaw')
-Moved.__doc__ = """How far the robot moved after the course ended: distance (m)
-and yaw (rad, signed)."""
+Moved.__doc__ = """Motion after the course ended: distance (m), yaw (rad, signed)."""
 
 
 class Settle(object):
     """Wait for a still robot after a course that ended at pose ``end``
-    (Pose2D) at time ``ended`` (s, the clock of the poses' stamps).
-
-    Call :meth:`update` with each new pose and its stamp; it returns
-    WAITING, STILL (the pose fed last is the settled one) or GAVE_UP (a
-    pose stamped ``timeout`` s past ``ended`` without ``settle_time`` s of
-    stillness after the end).
-    """
+    (Pose2D) at time ``ended`` (s, the clock of the poses' stamps)."""
 
     def __init__(self, end, ended, settle_time, timeout):
         if not (settle_time > 0.0 and timeout > 0.0):
@@ -83,9 +61,10 @@ class Settle(object):
         self.undelivered = None  # the stamp (s) commands were on their way last
 
     def update(self, pose, stamp, sent=True):
-        """The state after a new pose stamped ``stamp`` (s); ``sent`` is
-        False while commands sent before the end may still be on their way
-        (:func:`delivered`): a still spell begins only once they are not."""
+        """WAITING, STILL (the pose fed last is the settled one) or GAVE_UP
+        (stamped ``timeout`` s past the end without settling), after a new
+        pose stamped ``stamp`` (s). ``sent`` is False while commands sent
+        before the end may be on their way: no still spell begins then."""
         self.pose = pose
         self.sent = sent
         if not sent:
@@ -109,9 +88,8 @@ class Settle(object):
 
 def delivered(unacknowledged, sent_since, message_bytes):
     """True when every command sent before the end has reached the robot's
-    host: no more bytes are unacknowledged (``unacknowledged``, None when
-    unknown: True) than the ``sent_since`` commands of ``message_bytes``
-    each sent after the end take."""
+    host: ``unacknowledged`` bytes (None: unknown) are no more than the
+    ``sent_since`` commands of ``message_bytes`` sent after the end take."""
     return (unacknowledged is None
             or unacknowledged <= sent_since * message_bytes)
 
@@ -123,8 +101,7 @@ def _same(a, b):
 
 
 def moved_text(moved):
-    """A warning's words for ``moved`` (a :class:`Moved`), or None when it is
-    within REPORT_M and REPORT_RAD."""
+    """A warning's words for ``moved``, or None within REPORT_M / REPORT_RAD."""
     if moved.distance <= REPORT_M and abs(moved.yaw) <= REPORT_RAD:
         return None
     return ('the robot moved %.1f mm / %+.2f deg after the course ended '

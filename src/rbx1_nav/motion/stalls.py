@@ -1,26 +1,17 @@
-"""Stalls: the spells the robot stood still while commanded to move.
-
-No rospy here. Each :class:`rbx1_nav.motion.course.Course` has a
-:class:`Stalls`; the ROS side (``rbx1_nav.motion.runner_ros``) feeds it the
-velocities the robot's odometry measured and reports the count in its
-summary. Precise mode's creep speeds (:class:`rbx1_nav.motion.precise.Breakaway`)
-excuse the standing still they explain.
-"""
+"""Stalls: the spells the robot stood still while commanded to move (rospy-free)."""
 import math
 
 __all__ = ['Stalls']
 
 
 class Stalls(object):
-    """Spells when the robot stood still while its commands moved it.
+    """Spells when the robot stood still while its commands moved it (its
+    watchdog on a lossy link, motors off, a bumper).
 
-    A robot's watchdog stops it when commands stop arriving (lost or late
-    on the link); motors switched off or a bumper hold it too. Fed the
-    velocity the robot's odometry measured, this counts the spells of at
-    least ``minimum`` seconds when every commanded speed (of the command
-    :class:`rbx1_nav.motion.in_flight.InFlight` says the robot runs then)
-    was measured at under a tenth of itself. ``moved`` is the stamp of the latest velocity that
-    was not standing still (over 0.1 mm/s or 0.01 deg/s), None before.
+    Counts spells of at least ``minimum`` s when every commanded speed (of
+    the command ``in_flight`` says the robot ran) was measured at under a
+    tenth of itself. ``moved``: the stamp of the latest velocity over
+    STILL (0.1 mm/s, 0.01 deg/s), None before.
     """
 
     STILL = (1e-4, 2e-4)  # m/s, rad/s
@@ -35,8 +26,8 @@ class Stalls(object):
         self.excused = -math.inf  # a spell counts from here on at the earliest
 
     def velocity(self, stamp, linear, angular):
-        """The robot's measured velocity at ``stamp`` (s); returns the
-        length of a spell that just ended (s), else None."""
+        """Odometry's velocity at ``stamp`` (s); a spell's length (s) if one
+        just ended, else None."""
         if abs(linear) > self.STILL[0] or abs(angular) > self.STILL[1]:
             self.moved = max(stamp, self.moved or stamp)
         commanded = self.in_flight.command_at(stamp)
@@ -49,8 +40,8 @@ class Stalls(object):
         return self.end(stamp)
 
     def excuse(self, until):
-        """Standing still until ``until`` (s) is explained (precise mode
-        found the robot's breakaway speed): not a spell."""
+        """Standing still until ``until`` (s) is no spell (precise mode's
+        :class:`rbx1_nav.motion.precise.Breakaway` explains it)."""
         self.excused = max(self.excused, until)
 
     def end(self, stamp):

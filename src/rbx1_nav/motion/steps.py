@@ -1,32 +1,10 @@
 """The steps a course is made of: drive a distance, turn an angle, pause.
 
-No rospy here. A course (:class:`rbx1_nav.motion.course.Course`) runs
-these one after the other:
-
-* :class:`Drive` a distance and :class:`Turn` an angle, closed loop on
-  odometry (the pose fed in each cycle);
-* :class:`TimedDrive` and :class:`TimedTurn`, open loop on time: the
-  speed for ``distance / speed`` seconds, as the book's timed course does;
-* :class:`Pause`, the robot stopped for a time.
-
-Rules shared by every course, as in the book:
-
-* a drive measures the straight-line distance from where it began;
-* a turn adds up ``normalize_angle`` of each change in yaw (the course's
-  ``yaw_total``), so it works across the +-pi wrap and for turns of pi or
-  more, and counts from where the previous drive or turn ended (rotation
-  while stopping counts);
-* a closed-loop step ends once it has reached its goal less its
-  ``tolerance`` (measured in the step's own direction, so a clockwise turn
-  stops equally early); the cycle that ends it commands a stop;
-* with an :class:`rbx1_nav.motion.precise.Approach` a closed-loop step
-  runs in precise mode (:mod:`rbx1_nav.motion.precise`): it slows down
-  near its goal, ignores the tolerance and checks the goal on a still
-  robot; a drive also holds its starting heading.
-
-A drive or turn is a :class:`_Move` along an axis (:data:`DRIVE_AXIS` or
-:data:`TURN_AXIS`: what is measured, how it is commanded and written);
-closed loop or open loop is the subclass.
+No rospy here. As in the book, a turn adds up ``normalize_angle`` of each
+change in yaw, so it works across the +-pi wrap and for turns of pi or
+more, and counts from where the previous drive or turn ended (rotation
+while stopping counts); a closed-loop step ends ``tolerance`` short of its
+goal, in its own direction, on a cycle that commands a stop.
 """
 import math
 
@@ -40,15 +18,9 @@ __all__ = ['Step', 'Pause', 'Drive', 'Turn', 'TimedDrive', 'TimedTurn',
 
 
 class Step(object):
-    """One primitive of a course; subclasses fill in the behaviour.
-
-    :meth:`begin` is called when the step becomes current (the cycle the
-    previous one ended), :meth:`update` every cycle from the next one on.
-    ``update`` returns the Command to send, or None when the step is over.
-    ``progress`` is what a closed-loop step has measured of its goal (m
-    driven or rad turned) at its latest update, None before or for other
-    steps.
-    """
+    """One primitive of a course. :meth:`begin` runs on the cycle the
+    previous step ended, :meth:`update` on later ones: the Command to send,
+    or None once over. ``progress``: what a closed-loop step last measured."""
 
     kind = None
     progress = None
@@ -86,8 +58,7 @@ class Pause(Step):
 
 
 class _Axis(object):
-    """What a drive or a turn moves along: its kind, how a speed along it
-    is commanded, how an amount of it is written, where a goal ends."""
+    """What a drive or turn moves along: kind, command, wording, ideal end."""
 
     def __init__(self, kind, verb, command, size, ideal_end):
         self.kind, self.verb = kind, verb
@@ -111,8 +82,8 @@ TURN_AXIS = _Axis(
 
 
 class _Move(Step):
-    """What every drive and turn has: an ``axis``, a goal along it (m or
-    rad, negative: backwards or clockwise) and a speed."""
+    """A drive or turn: a goal along ``axis`` (m or rad, negative: backwards
+    or clockwise) and a speed."""
 
     axis = None
 
@@ -129,16 +100,10 @@ class _Move(Step):
 
 
 class _OnOdometry(_Move):
-    """Closed loop on odometry: the base of :class:`Drive` and :class:`Turn`.
-
-    They define :meth:`measure` (the progress towards the goal, from the
-    course and the pose), :meth:`remaining` (what is left of the goal
-    after that progress, negative past it), :meth:`advance` (the progress
-    between two poses) and :meth:`moving` (the command at a speed along
-    the goal, negative: back). :meth:`update` measures, keeps the progress
-    in ``progress`` and ends the step by the tolerance rule, or, with an
-    ``approach``, hands the cycle to its :class:`PreciseMode`.
-    """
+    """Closed loop on odometry. Subclasses define ``measure`` (progress),
+    ``remaining`` (of the goal after it, negative past it), ``advance``
+    (progress between two poses) and ``moving`` (the command at a signed
+    speed along the goal)."""
 
     def __init__(self, goal, speed, tolerance, approach, label=''):
         _Move.__init__(self, goal, speed, label)
@@ -155,20 +120,8 @@ class _OnOdometry(_Move):
             return self.end(course, now)
         return self.moving(pose, self.speed)
 
-    def measure(self, course, pose):
-        raise NotImplementedError
-
-    def remaining(self, progress):
-        raise NotImplementedError
-
-    def advance(self, before, after):
-        raise NotImplementedError
-
-    def moving(self, pose, speed):
-        raise NotImplementedError
-
     def end(self, course, now, corrections=0, missed=None):
-        """Log the step's end (with its corrections) and end it: None."""
+        """Log the step's end (with its corrections); None."""
         note = ''
         if corrections:
             note = ' after %d correction%s' % (corrections, 's' * (corrections > 1))
@@ -244,14 +197,9 @@ class Turn(_OnOdometry):
 
 
 class _Timed(_Move):
-    """Open loop: the step's speed for |goal| / speed seconds of ROS time.
-
-    The base of :class:`TimedDrive` and :class:`TimedTurn`. The clock
-    starts at the step's first command. The last cycle commands the
-    fraction of the speed that the remaining time (less than one
-    ``period``) calls for, so the commanded distance or angle is exact
-    whatever the phase of the control ticks.
-    """
+    """Open loop: the speed for |goal| / speed s from the first command; the
+    last cycle commands the fraction the time left (under one ``period``)
+    calls for, so the amount is exact whatever the ticks' phase."""
 
     def __init__(self, goal, speed, period, label=''):
         _Move.__init__(self, goal, speed, label)

@@ -1,9 +1,4 @@
-"""The summary line a motion node logs after a course (rospy-free).
-
-The runner (rbx1_nav.motion.runner_ros) gathers what it saw: the final
-pose, the control ticks, the stalls its odometry feed showed and the link
-dropouts ridden out; these functions turn that into the text it logs.
-"""
+"""The summary line a motion node logs after a course (rospy-free)."""
 import math
 
 from rbx1_nav.motion.command import pose_error
@@ -11,12 +6,8 @@ from rbx1_nav.transform_utils import normalize_angle
 
 
 def stalls_text(stalls, odom_topic, heard):
-    """How often the robot stood still while commanded to move.
-
-    ``stalls`` is the course's rbx1_nav.motion.stalls.Stalls; ``heard`` is
-    False when nothing published on ``odom_topic`` (no velocities to judge
-    by).
-    """
+    """How often the course's ``stalls`` stood still while commanded to
+    move; ``heard`` is False when nothing published on ``odom_topic``."""
     if not heard:
         return 'unknown (nothing on %s)' % odom_topic
     if stalls.count:
@@ -26,14 +17,9 @@ def stalls_text(stalls, odom_topic, heard):
 
 
 def summary_line(robot, course, final, odom_frame, tick_times, held, dropouts):
-    """The 'Course complete' line.
-
-    ``robot`` prefixes it (the namespace and ': ' in a fleet, else '');
-    ``course`` is the course driven; ``final`` its final pose (None when
-    blind: no odometry); ``odom_frame`` the frame the poses are in;
-    ``tick_times`` the control ticks (s); ``held`` is :func:`stalls_text`'s
-    and ``dropouts`` rbx1_nav.motion.dropouts.Dropouts.summary()'s text.
-    """
+    """The 'Course complete' line; ``robot``: a fleet's namespace and ': ',
+    else ''; ``final``: None without odometry; ``held``, ``dropouts``: the
+    texts of :func:`stalls_text` and Dropouts.summary()."""
     if final is None:
         return ('%sCourse complete in %.1f s (no odometry: final pose '
                 'unknown); stood still while commanded: %s; link '
@@ -57,11 +43,8 @@ def summary_line(robot, course, final, odom_frame, tick_times, held, dropouts):
 
 def control_rates(times):
     """(mean Hz, ticks in the slowest whole second) of control ticks at
-    ``times`` (seconds, ascending); (0.0, 0) for fewer than two ticks.
-
-    A node that falls behind its clock misses ticks: the slowest second
-    shows it even when the mean looks fine.
-    """
+    ``times`` (s, ascending); (0.0, 0) for fewer than two. The slowest
+    second shows missed ticks even when the mean looks fine."""
     if len(times) < 2:
         return 0.0, 0
     span = times[-1] - times[0]
