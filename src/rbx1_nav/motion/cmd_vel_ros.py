@@ -1,13 +1,6 @@
-"""The runner's cmd_vel side: the publisher, its counted sends, and the
-wait for the robot's driver to take the commands.
-
-The publisher is the course clock's (rbx1_nav.motion.ticks_ros), which
-counts each command sent. Before a course, :meth:`CmdVel.wait_for_listener`
-waits for a subscriber; when none comes it names the topics that do take
-Twist commands (a remap hint). :meth:`CmdVel.watch_publishers` also
-listens on the topic itself, so a course notices another node driving its
-robot (rbx1_nav.common.cmd_vel_watch.OtherDriver).
-"""
+"""The runner's cmd_vel side: the publisher (the course clock's, told of
+each send), the wait for the driver to subscribe, and another node
+driving the robot (heard on the topic itself)."""
 import io
 
 import rospy
@@ -24,25 +17,19 @@ from rbx1_nav.motion.cmd_vel import listener_hint
 
 
 class CmdVel(object):
-    """The ``cmd_vel`` publisher of a course run by ``clock``
-    (rbx1_nav.motion.ticks_ros.Ticks or its variant)."""
+    """The ``cmd_vel`` publisher of a course run by ``clock`` (a Ticks)."""
 
     def __init__(self, clock):
         self.clock = clock
         self.pub = clock.publisher('cmd_vel', Twist)
         self.own = rospy.get_name()
         self.others = OtherDriver(self.own)
-        self.sub = None  # our own cmd_vel, heard (watch_publishers)
+        self.sub = None  # our own cmd_vel, heard
 
     def _connections(self):
-        """The publisher's connections to other nodes (not to our own
-        subscriber, which hears the topic for :meth:`other_driver`)."""
+        """The publisher's connections but to our own subscriber."""
         return [c for c in connections(self.pub)
                 if subscriber_name(c) != self.own]
-
-    @property
-    def resolved_name(self):
-        return self.pub.resolved_name
 
     @staticmethod
     def message_bytes():
@@ -52,12 +39,10 @@ class CmdVel(object):
         return 4 + len(buff.getvalue())
 
     def unacknowledged(self):
-        """The most bytes of commands any cmd_vel connection has not had
-        acknowledged by the subscriber's host: in rospy's queue or in the
-        kernel's send queue (rospy_private_ros.unsent_bytes). None where that cannot be
-        told. TCP delivers in order, so a command sent earlier than these
-        bytes has reached the robot's host. 0 when the clock counts the
-        commands (the robot moves on only once it has them all)."""
+        """The most bytes of commands any connection's subscriber host has
+        not acknowledged (rospy_private_ros.unsent_bytes), None when unknown:
+        TCP delivers in order, so a command sent before these has arrived.
+        0 when the clock counts them (the robot waits for all of them)."""
         if self.clock.counts_commands:
             return 0
         most = 0
@@ -74,9 +59,8 @@ class CmdVel(object):
         self.clock.sent(self.pub.resolved_name)
 
     def watch_publishers(self, name):
-        """Warn when another node publishes on this cmd_vel too
-        (rbx1_nav.common.cmd_vel_watch_ros), and hear what each sends, for
-        :meth:`other_driver`."""
+        """Warn when another node publishes on this cmd_vel too, and hear
+        what each sends, for :meth:`other_driver`."""
         watch_publishers(name, [self.pub.resolved_name], own=self.own)
         if self.sub is None:
             self.sub = rospy.Subscriber(self.pub.resolved_name, Twist,
@@ -89,18 +73,15 @@ class CmdVel(object):
                           (l.x, l.y, l.z), (a.x, a.y, a.z))
 
     def other_driver(self):
-        """The error text when another node has commanded motion on
-        cmd_vel since :meth:`OtherDriver.arm` (``self.others``), else None."""
+        """The error text when another node has commanded motion since
+        ``self.others.arm()``, else None."""
         found = self.others.found
         return None if found is None else other_driver_text(
             self.pub.resolved_name, found)
 
     def wait_for_listener(self, wait):
-        """Wait up to ``wait`` wall s for the driver to subscribe to cmd_vel.
-
-        Commands published before the connection is made are lost, which
-        would shorten the first move of an open-loop course.
-        """
+        """Wait up to ``wait`` wall s for the driver to subscribe: commands
+        sent before are lost (an open-loop course's first move cut short)."""
         deadline = Deadline(wait)
         while True:
             connected = {subscriber_name(c) for c in self._connections()}

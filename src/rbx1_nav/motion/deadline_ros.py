@@ -1,10 +1,8 @@
-"""A start-up wait's limit, for the motion runner's pieces.
-
-The runner's start-up waits (the transform, a cmd_vel subscriber) wait
-for other processes rather than for the robot, so they count wall
-seconds: under simulated time, ROS time may not move until the course
-itself takes part in it.
-"""
+"""A start-up wait's limit in wall seconds. The runner's start-up waits
+(~tf_wait: the transform, a cmd_vel subscriber) wait for other processes,
+not the robot, so a launch file need not scale them with its sim_speed
+(leaving scaled values on the master for a later rosrun); and simulated
+time may not move before the course takes part in it."""
 import time
 
 import rospy

@@ -1,17 +1,5 @@
-"""The pieces the runner's control loop asks at each tick
-(rbx1_nav.motion.runner_ros.MotionRunner._drive):
-
-* :class:`Reading`: the transform steered by, and whether this tick
-  brought a newer one;
-* :class:`Hold`: a stale transform ridden out, robot held
-  (rbx1_nav.motion.dropouts), or the course aborted past ~link_grace;
-* :class:`StallCheck`: the robot's measured velocities fed to the
-  course's stall count, each spell it stood still while commanded to
-  move said;
-* :class:`Settling`: after the last step, the wait for a still robot
-  (rbx1_nav.motion.settle).
-
-No rospy here: times are ROS times (anything whose difference has
+"""The pieces the runner's control loop (MotionRunner._drive) asks at each
+tick. No rospy: times are ROS times (anything whose difference has
 ``to_sec()``), the log is passed in (``warn``, ``info``).
 """
 from rbx1_nav.common.aborted import CourseAborted
@@ -24,7 +12,7 @@ __all__ = ['Reading', 'Hold', 'StallCheck', 'Settling']
 class Reading(object):
     """The newest transform read: ``pose``, its ``stamp`` (None before
     the first), the tick ``fresh_at`` it came (or the first tick), and
-    whether the tick fed last brought it (``fresh``)."""
+    whether the last tick brought it (``fresh``)."""
 
     def __init__(self, pose=None):
         self.pose = pose
@@ -47,8 +35,9 @@ class Reading(object):
 
 
 class Hold(object):
-    """One course's ride through stale transforms: ``where`` names the
-    transform, ``stop()`` stops the robot, ``name`` is the node's."""
+    """One course's ride through stale transforms (motion.dropouts): the
+    robot held, or the course aborted past ~link_grace; ``where`` names
+    the transform."""
 
     def __init__(self, name, where, timeout, grace, stop, warn, info):
         self.name = name
@@ -59,8 +48,7 @@ class Hold(object):
 
     def held(self, now, reading):
         """True while the robot is to be held (commanded zero) at ``now``,
-        by ``reading`` (a :class:`Reading`); CourseAborted past
-        ~link_grace."""
+        by ``reading`` (a :class:`Reading`); CourseAborted when lost."""
         stamp = None if reading.stamp is None else reading.stamp.to_sec()
         tick = self.dropouts.tick(now.to_sec(), reading.fresh_at.to_sec(), stamp)
         if tick.state == LOST:
@@ -81,7 +69,7 @@ class Hold(object):
 
     def _stale(self, now, reading, tick):
         """How the transform is stale: not updated, or stamped long ago."""
-        if reading.fresh_at == now:  # it came this tick, stamped long ago
+        if reading.fresh_at == now:
             return ('%s is %.2f s old by its stamp though still arriving (a link '
                     'holding messages back, or the robot\'s clock behind this '
                     'one\'s?)' % (self.where, tick.stale))
@@ -94,16 +82,15 @@ class Hold(object):
 
 class StallCheck(object):
     """Feeds the velocities the robot measured to a course's stall count,
-    saying (``warn``) each spell it stood still while commanded to move;
-    ``name`` is the node's."""
+    warning of each spell it stood still while commanded to move."""
 
     def __init__(self, name, warn):
         self.name = name
         self.warn = warn
 
     def check(self, course, start, velocities):
-        """``velocities``: (stamp, linear, angular), stamps in order; the
-        course counts seconds from ``start``, its first tick."""
+        """``velocities``: (stamp, linear, angular) in stamp order;
+        ``start``: the course's first tick."""
         for stamp, linear, angular in velocities:
             spell = course.stalls.velocity((stamp - start).to_sec(), linear, angular)
             if spell is not None:
@@ -115,10 +102,9 @@ class StallCheck(object):
 
 class Settling(object):
     """After the last step: the robot commanded zero at every tick until
-    ``settle`` (a rbx1_nav.motion.settle.Settle) has a still robot or gives
-    up. Counts the stops sent since, so a command still on a slow link
-    (more than the stops' ``message_bytes`` each unacknowledged) is not
-    taken for a still robot."""
+    ``settle`` (a motion.settle.Settle) has a still robot or gives up; the
+    stops sent are counted, so a command still on a slow link (more bytes
+    unacknowledged than the stops') is not taken for a still robot."""
 
     def __init__(self, settle, message_bytes):
         self.settle = settle
@@ -127,10 +113,9 @@ class Settling(object):
 
     def done(self, held, reading, start, unacknowledged):
         """After a stop sent: True once settled or given up. ``held``: the
-        transform is stale (the wait counts odometry's stamps, so it
-        pauses); ``reading`` a :class:`Reading`; ``start`` the course's
-        first tick; ``unacknowledged`` bytes of commands not yet
-        acknowledged (None: unknown)."""
+        transform is stale (the wait counts odometry's stamps, so pauses);
+        ``unacknowledged``: command bytes not yet acknowledged (None:
+        unknown)."""
         self.stops += 1
         sent = delivered(unacknowledged, self.stops, self.message_bytes)
         return (not held and reading.fresh

@@ -1,39 +1,8 @@
 """The ROS side of every motion node: a course in, the robot driven and stopped.
 
-A motion node declares its private parameters (rbx1_nav.common.params.Param) and
-how to build its course (a rbx1_nav.motion.course.Course) from their values;
-:func:`run_course_node` does the rest: reads and checks the parameters
-(with the common ones below), logs the values it uses, follows the
-``odom_frame -> base_frame`` transform with tf2, feeds each pose to the
-course, publishes its commands on ``cmd_vel``, and logs a summary line.
-
-:class:`MotionRunner` owns the control loop and the stop; each other
-concern is a piece it composes, beside it in rbx1_nav.motion: the
-cmd_vel side (cmd_vel_ros), the tf follower (tf_follow_ros), the clock
-(ticks_ros), the watchdogs (watchdogs_ros) and the summary line
-(summary).
-
-Safety, for every node that uses it: a zero Twist goes out on every exit
-path (success, Ctrl-C, ``rosnode kill``, any exception). When the
-transform stops updating for ``~tf_timeout``, or what arrives is stamped
-that long ago, the robot is commanded zero and the course waits up to
-``~link_grace`` more for it (a Wi-Fi dropout, rbx1_nav.motion.dropouts),
-then carries on from the pose tf gives; past that, or when ``/clock``
-stops under simulated time, it aborts, robot stopped.
-It aborts too, robot stopped, when another node commands motion on its
-cmd_vel while it drives (rbx1_nav.common.cmd_vel_watch.OtherDriver), or when
-its transform comes from two nodes or jumps further than the robot can
-move (rbx1_nav.motion.tf_guard). Exit status 0 only after a completed
-course.
-
-The clock (rbx1_nav.motion.ticks_ros) says when each tick comes and what
-the robot's state is at it: on a real robot, a rate of ROS time; under
-simulated time that steps with its nodes, the simulator's variant. The
-start-up waits for the clock, the transform and a cmd_vel subscriber
-(~tf_wait) count wall seconds, at any simulation speed: they wait for
-other processes rather than for the robot, so a launch file need not
-scale them with its sim_speed (and leave scaled values behind on the
-master for a later rosrun).
+:func:`run_course_node` is a course node's main(); :class:`MotionRunner`
+owns the control loop and the zero Twist on every exit path. What each
+fault does: docs/safety.md; how the pieces fit: docs/design.md.
 """
 import threading
 
@@ -58,8 +27,7 @@ from rbx1_nav.motion.watchdogs_ros import (ClockWatchdog, StallWarnings,
                                            watch_master)
 from rbx1_nav.transform_utils import Pose2D
 
-__all__ = ['MotionRunner', 'common_params', 'guarded',
-           'run_course_node']
+__all__ = ['MotionRunner', 'common_params', 'guarded', 'run_course_node']
 
 
 def common_params(rate):
@@ -89,19 +57,10 @@ def common_params(rate):
 
 
 class MotionRunner(object):
-    """The control loop and the stop on every exit; tf2 in, cmd_vel out.
-
-    It composes one piece per concern: the cmd_vel side
-    (rbx1_nav.motion.cmd_vel_ros), the tf follower
-    (rbx1_nav.motion.tf_follow_ros), the clock
-    (rbx1_nav.motion.ticks_ros), the watchdogs
-    (rbx1_nav.motion.watchdogs_ros) and the summary line
-    (rbx1_nav.motion.summary).
-
-    ``settings`` holds the values of :func:`common_params`. With
-    ``require_tf`` false (open-loop courses) a robot without the transform
-    still runs the course, blind: no staleness check and no final pose.
-    """
+    """The control loop and the stop on every exit; ``settings``: the values
+    of :func:`common_params`. With ``require_tf`` false (open-loop courses)
+    a robot without the transform runs the course blind: no staleness
+    check and no final pose."""
 
     def __init__(self, name, settings, require_tf=True):
         self.name = name
@@ -124,19 +83,21 @@ class MotionRunner(object):
         self.clock_watchdog = ClockWatchdog(name, settings['tf_timeout'],
                                             self.stop)
         self._started = False
-        self.hold = None  # the transform's dropouts, in the course driven last
-        self.tick_times = []  # the control ticks (s) of the course driven last, from its first
-        self._last_tick = None  # the ROS time of the last of them
-        # Precise mode's creep speeds learned where the robot stuck: kept
-        # for every course this runner drives.
+        # Of the course driven last: its Hold, its ticks (s from its first)
+        # and the ROS time of the last tick. Under simulated time read a
+        # simulator's state at last_tick, not rospy.Time.now(): the last
+        # /clock heard may lag the course's ticks on a loaded machine.
+        self.hold = None
+        self.tick_times = []
+        self.last_tick = None
+        # Precise mode's creep speeds, learned over every course driven.
         self.breakaway = Breakaway()
-        # Progress and summary lines name the robot in a fleet: its namespace.
+        # Log lines name the robot in a fleet by its namespace.
         namespace = rospy.get_namespace().strip('/')
         self.robot = namespace + ': ' if namespace else ''
 
     @property
     def odom_frame(self):
-        """The odometry frame (~odom_frame)."""
         return self.tf.odom_frame
 
     @property
@@ -145,8 +106,8 @@ class MotionRunner(object):
         return self.tf.followed
 
     def stop(self):
-        """Command zero velocity (a no-op once rospy has closed its topics:
-        the shutdown hook :meth:`halt` has sent the stop by then)."""
+        """Command zero velocity; a no-op once rospy has closed its topics
+        (:meth:`halt` sent the stop before that)."""
         try:
             self.cmd_vel.send(Twist())
         except rospy.ROSException:
@@ -154,7 +115,7 @@ class MotionRunner(object):
                 raise
 
     def halt(self):
-        """Stop for good: the node is shutting down (from any thread)."""
+        """Stop for good: the node is shutting down (any thread)."""
         with self.lock:
             self.halted = True
             self.stop()
@@ -178,16 +139,11 @@ class MotionRunner(object):
             self._started = True
 
     def run(self, course, stay=False):
-        """Drive ``course``; return the final pose (None when blind).
-
-        Raises CourseAborted or rospy.ROSInterruptException if the course
-        did not complete; the robot is stopped either way. With ``stay``,
-        the clock is not told the course has ended (another follows at
-        once: see :meth:`pause` and :meth:`leave`).
-        """
+        """Drive ``course``; return the final pose (None when blind), or
+        raise CourseAborted or rospy.ROSInterruptException, robot stopped.
+        With ``stay`` the clock is not told it ended (another follows)."""
         self.start()
-        # From here to the end another node commanding motion on our
-        # cmd_vel is a fight (rbx1_nav.common.cmd_vel_watch.OtherDriver).
+        # Until the end, another node commanding motion here is a fight.
         self.cmd_vel.others.arm()
         try:
             if self.tf.followed is None:
@@ -212,7 +168,7 @@ class MotionRunner(object):
         return final
 
     def pause(self, seconds):
-        """Wait ``seconds`` of ROS time between courses (see Ticks.pause)."""
+        """Wait ``seconds`` of ROS time between courses."""
         self.ticks.pause(seconds)
 
     def leave(self):
@@ -221,9 +177,7 @@ class MotionRunner(object):
 
     def _check_robot_is_ours(self):
         """CourseAborted, robot stopped, when another node drives the robot
-        or its transform is not one robot's (two publishers, a jump no
-        robot at the course's speeds makes): the course cannot end where
-        it should."""
+        or its transform is not one robot's (tf_guard)."""
         problem = self.cmd_vel.other_driver() or (
             self.tf.guard and self.tf.guard.problem)
         if problem:
@@ -231,9 +185,8 @@ class MotionRunner(object):
             raise CourseAborted(problem)
 
     def _drive(self, course):
-        """The control loop of :meth:`run`: the course's steps, then (with
-        odometry) the wait for a still robot; the pieces it asks are in
-        rbx1_nav.motion.loop."""
+        """The control loop: the course's steps, then (with odometry) the
+        wait for a still robot; its pieces are in rbx1_nav.motion.loop."""
         blind = self.tf.followed is None
         course.breakaway = self.breakaway
         self.hold = Hold(self.name, 'tf %s -> %s' % (self.tf.odom_frame, self.tf.followed),
@@ -246,11 +199,11 @@ class MotionRunner(object):
         for now in self.ticks.ticks():
             if start is None:
                 start = now
-            # Seconds from the ROS times' integer ns: the same ticks give
-            # the same seconds whenever the course began.
+            # From the integer ns: the same ticks give the same seconds
+            # whenever the course began.
             t = (now - start).to_sec()
             self.tick_times.append(t)
-            self._last_tick = now
+            self.last_tick = now
             self._check_robot_is_ours()
             robot.tick(now, None if blind else self.ticks.reading(self.tf, now))
             if settling is not None:
@@ -260,10 +213,12 @@ class MotionRunner(object):
                     break
             elif not blind and self.hold.held(now, robot):
                 self.publish(course.hold(t))
-            elif robot.pose is not None:  # None: found a moment ago, lookups may lag
+            elif robot.pose is not None:  # None: frame just found, lookups lag
                 self._steer(course, robot, now, start, blind)
-                if course.done:
-                    self._end_steps(course, start)
+                if course.done:  # stop, and close the stall count
+                    self.stop()
+                    self.stalls.check(course, start)
+                    course.stalls.end(t)
                     if blind:
                         break
                     settling = Settling(Settle(robot.pose, t, self.settings['settle_time'],
@@ -285,12 +240,6 @@ class MotionRunner(object):
         self.publish(course.update(robot.pose, self.tick_times[-1], age))
         for event in course.pop_events():
             rospy.loginfo(self.robot + event)
-
-    def _end_steps(self, course, start):
-        """The last step is done: stop, and close the stall count."""
-        self.stop()
-        self.stalls.check(course, start)
-        course.stalls.end(self.tick_times[-1])
 
     def _settled(self, course, settle):
         """Say how the wait for a still robot after ``course`` ended, and
@@ -318,18 +267,8 @@ class MotionRunner(object):
                           ' (precise mode checked its goal before that)'
                           if course.predicts else '')
 
-    @property
-    def last_tick(self):
-        """ROS time of the last control tick of the course driven last.
-
-        Under simulated time, ``rospy.Time.now()`` is the last /clock this
-        process received, which may lag the course's own ticks on a loaded
-        machine: read a simulator's state at this time instead."""
-        return self._last_tick
-
     def summarize(self, course, final):
-        """Log the final pose against the start, the course time, and the
-        spells the robot stood still while commanded to move."""
+        """Log the summary line (rbx1_nav.motion.summary)."""
         held = stalls_text(course.stalls, self.stalls.topic, self.stalls.heard())
         rospy.loginfo(summary_line(self.robot, course, final, self.tf.odom_frame,
                                    self.tick_times, held,
@@ -337,11 +276,8 @@ class MotionRunner(object):
 
 
 def guarded(name, runner, work):
-    """Run ``work()``; log why it failed; stop the robot; return the status.
-
-    0 when ``work`` returned, 1 when it raised (CourseAborted, an
-    interruption, any exception).
-    """
+    """Run ``work()``, stop the robot, return the exit status: 0 when
+    ``work`` returned, 1 (the reason logged) when it raised."""
     try:
         work()
         return 0
@@ -353,7 +289,7 @@ def guarded(name, runner, work):
         rospy.logwarn('%s: interrupted; robot stopped', name)
     except Exception as err:  # log it, stop the robot, exit non-zero
         if rospy.core.is_shutdown_requested():
-            # A signal shuts rospy down in another thread (rbx1_nav.common.node_ros):
+            # A signal shut rospy down from another thread (common.node_ros):
             # a call it closed under us is the interruption, not a fault.
             rospy.logwarn('%s: interrupted; robot stopped', name)
         else:
@@ -365,13 +301,9 @@ def guarded(name, runner, work):
 
 
 def run_course_node(name, specs, build_course, require_tf=True, doc=None):
-    """The whole main() of a course node; returns its exit status.
-
-    ``specs`` are all the node's parameters, :func:`common_params` among
-    them; ``build_course(values)`` returns the
-    :class:`rbx1_nav.motion.course.Course` to drive; ``doc`` (the node's
-    docstring) heads its ``--help``.
-    """
+    """A course node's main(); returns its exit status. ``specs``: all its
+    parameters (:func:`common_params` among them); ``build_course(values)``
+    returns the Course to drive; ``doc`` heads ``--help``."""
     values = start_node(name, specs, doc)
     if values is None:
         return 1

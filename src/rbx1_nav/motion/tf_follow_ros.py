@@ -1,11 +1,5 @@
-"""Following the robot on tf: odom_frame -> base_frame, for the runner.
-
-:class:`TfFollower` finds the base frame (~base_frame, or the first of
-base_footprint and base_link that tf has) and looks up the latest
-transform as a Pose2D. Every /tf message goes to the course's clock too
-(rbx1_nav.motion.ticks_ros): a clock that reads the robot's state at its
-own ticks keeps what it needs of them.
-"""
+"""Following the robot on tf (odom_frame -> base_frame) for the runner;
+every /tf message also goes to the course's clock (Ticks.arrived)."""
 import rospy
 import tf2_ros
 
@@ -20,8 +14,8 @@ TF_TOPIC = '/tf'
 
 
 class _Listener(tf2_ros.TransformListener):
-    """tf2 listener that passes on every /tf message once the buffer has
-    it, over connections without Nagle's delay."""
+    """tf2 listener (without Nagle's delay) that passes on every /tf
+    message once the buffer has it."""
 
     def __init__(self, buffer, on_message):
         self.on_message = on_message
@@ -33,9 +27,8 @@ class _Listener(tf2_ros.TransformListener):
 
 
 class TfFollower(object):
-    """The transform ``odom_frame -> base_frame`` ('' = automatic) the
-    node steers by; ``name`` is the node's, for its warnings; ``clock``
-    the course's (rbx1_nav.motion.ticks_ros.Ticks or its variant)."""
+    """The transform ``odom_frame -> base_frame`` the node steers by;
+    ``clock`` is the course's (a Ticks)."""
 
     def __init__(self, name, odom_frame, base_frame, clock):
         self.name = name
@@ -44,15 +37,14 @@ class TfFollower(object):
         self.followed = None  # the base frame found on tf
         self.clock = clock
         self.tf_topic = rospy.resolve_name(TF_TOPIC)
-        # While a course runs: its rbx1_nav.motion.tf_guard.TransformGuard.
-        self.guard = None
+        self.guard = None  # while a course runs: its TransformGuard
         self.buffer = tf2_ros.Buffer()
         self.listener = _Listener(self.buffer, self._on_tf)
 
     def _on_tf(self, msg):
-        """Feed each update of the followed transform to ``guard`` (while a
-        course runs), and every message to the clock."""
-        guard = self.guard
+        """Each update of the followed transform to ``guard``, every
+        message to the clock."""
+        guard = self.guard  # read once: run() clears it from another thread
         if guard is not None:
             for t in msg.transforms:
                 if t.child_frame_id.lstrip('/') == self.followed:
@@ -63,9 +55,8 @@ class TfFollower(object):
 
     def find_base_frame(self, wait, require_tf):
         """Wait up to ``wait`` wall s for odom -> base; return the base
-        frame, or None when ``require_tf`` is false (the course runs
-        blind); CourseAborted when it is true. The clock says when to
-        look (:meth:`Ticks.looks`)."""
+        frame found, else None (blind) or, with ``require_tf``,
+        CourseAborted."""
         candidates = self.candidates()
         rospy.loginfo('Waiting up to %.1f s for tf %s -> %s', wait,
                       self.odom_frame, ' or '.join(candidates))
@@ -99,7 +90,7 @@ class TfFollower(object):
             deadline.poll(20)
 
     def has(self, frame):
-        """True when tf has ``odom_frame -> frame``."""
+        """True when tf has odom_frame -> ``frame``."""
         return self.buffer.can_transform(self.odom_frame, frame, rospy.Time(0))
 
     def candidates(self):
@@ -107,8 +98,8 @@ class TfFollower(object):
         return (self.base_frame,) if self.base_frame else BASE_FRAME_CANDIDATES
 
     def lookup(self, stamp=None):
-        """(Pose2D, stamp) of the odom -> base transform at ``stamp`` (None:
-        the latest), or None."""
+        """(Pose2D, stamp) of odom -> base at ``stamp`` (None: the latest),
+        or None."""
         try:
             tf = self.buffer.lookup_transform(self.odom_frame, self.followed,
                                               stamp or rospy.Time(0))

@@ -1,21 +1,13 @@
-"""Is the transform a course steers by one robot's? Two ways it is not.
+"""Is the transform a course steers by one robot's? Not when two nodes
+publish it (two robots with the same frames on one ``/tf``: tf hands the
+course whichever came last), nor when it jumps further than the robot
+could move at the course's speeds (two robots, or odometry reset by a
+restarted driver).
 
-* **Two publishers.** Two robots started with the same frames on one
-  ``/tf`` (a second ``fake_turtlebot.launch`` under ``ROS_NAMESPACE``, a
-  driver beside a simulator) both publish ``odom -> base_footprint``: tf
-  hands the course whichever came last, and the course steers by two
-  robots at once.
-* **A jump no robot makes.** Between two updates the transform moves
-  further than the robot could at this course's speeds (6.77 m in 0.6 s):
-  two robots on one frame, odometry reset by a restarted driver.
-
-:class:`TransformGuard` is fed each update of the followed transform with
-the node that sent it and keeps the first problem, as one line that names
-the cause and the fix. The limit on a jump between updates ``dt`` s apart
-is ``(MARGIN x the course's top speed + EXTRA) x dt + SLACK``, for distance
-and heading alike: twice what the course commands, plus a speed and a
-step that no odometry of a robot at rest reaches, so noise, a filter's
-correction or an overshooting motor controller never trips it.
+The limit on a jump between updates ``dt`` s apart is
+``(MARGIN x the course's top speed + EXTRA) x dt + SLACK``, for distance
+and heading alike: EXTRA and SLACK are beyond what a robot's noise, a
+filter's correction or an overshooting motor controller reach.
 No rospy: times are float seconds, angles radians.
 """
 import math
@@ -31,8 +23,7 @@ EXTRA_ANGULAR = 1.0    # rad/s on top
 SLACK_LINEAR = 0.05    # m per update
 SLACK_ANGULAR = 0.1    # rad per update
 
-#: How to give each robot its own transform (docs/sim_time.md, "Several
-#: robots on one master").
+#: See docs/sim_time.md, "Several robots on one master".
 FIX = ('give each robot its own frames (e.g. _odom_frame:=robot1/odom '
        '_base_frame:=robot1/base_footprint for the course, and its robot '
        'publishing those) or its own tf topic (/tf:=tf /tf_static:=tf_static '
@@ -57,9 +48,8 @@ def top_speeds(course):
 
 class TransformGuard(object):
     """Watches ``parent -> child`` for a second publisher and for jumps
-    beyond ``linear`` m/s and ``angular`` rad/s (the course's top speeds,
-    to which MARGIN and EXTRA are added). ``problem`` is the first problem
-    found (a line for the log), or None."""
+    (``linear`` m/s, ``angular`` rad/s: the course's top speeds).
+    ``problem``: the first problem found (a log line), or None."""
 
     def __init__(self, parent, child, linear, angular):
         self.parent, self.child = parent, child
@@ -70,8 +60,8 @@ class TransformGuard(object):
         self.problem = None
 
     def heard(self, sender, stamp, x, y, yaw):
-        """An update of the transform from ``sender`` (a node name),
-        stamped ``stamp`` s. Returns ``problem``."""
+        """An update from node ``sender``, stamped ``stamp`` s; returns
+        ``problem``."""
         if self.problem is not None:
             return self.problem
         where = 'tf %s -> %s' % (self.parent, self.child)

@@ -1,13 +1,7 @@
-"""The control loop's clock: when each tick comes, and what the robot's
-state is at a tick.
-
-:class:`Ticks` is a real robot's: a tick every 1/~rate s of ROS time
-(rospy.Rate), and the robot's state at a tick is the newest transform tf
-has. It is also simulated time's when the simulator runs free. The
-runner asks for this object once, at start-up (:func:`course_ticks`), and
-every piece that depends on when things happen asks it, never the
-simulator: a simulated graph that steps with its nodes supplies a variant
-of the same methods (rbx1_nav.sim_time.course_member_ros), imported only then.
+"""The control loop's clock: when each tick comes, and the robot's state
+at a tick. Every piece that depends on when things happen asks it, never
+a simulator; a graph that steps with its nodes supplies a variant with
+the same methods (rbx1_nav.sim_time.stepping_ros), imported only then.
 """
 import rospy
 
@@ -15,13 +9,12 @@ from rbx1_nav.sim_time.stepping_ros import stepped_ticks
 
 
 class Ticks(object):
-    """A tick every 1/``rate`` s of ROS time."""
+    """A real robot's clock (or a free-running simulator's): a tick every
+    1/``rate`` s of ROS time, the robot's state the newest transform."""
 
-    #: The robot's commands are counted by the clock, so none is still
-    #: on its way when a tick comes (rbx1_nav.motion.settle.delivered).
+    #: True when the clock counts the commands: none is on its way at a tick.
     counts_commands = False
-    #: ROS time may stop under /use_sim_time: the runner watches it
-    #: (rbx1_nav.motion.watchdogs_ros.ClockWatchdog).
+    #: True when the runner is to watch for a stopped /clock (ClockWatchdog).
     watch_clock = True
 
     def __init__(self, rate):
@@ -35,9 +28,8 @@ class Ticks(object):
             rate.sleep()
 
     def arrived(self, topic, msg, item):
-        """A message the course reads (``item``, what it needs of it) came
-        on ``topic``; True if the clock keeps it for the tick that counts
-        it (:meth:`take`), False to use it now."""
+        """A message came on ``topic`` (``item``: what the course needs of
+        it); True if kept for its tick (:meth:`take`), False to use now."""
         return False
 
     def take(self, topic, key):
@@ -52,23 +44,20 @@ class Ticks(object):
         """A command went out on ``topic``."""
 
     def takers(self, nodes):
-        """Those of ``nodes`` (connected to the command topic) that drive
-        the robot: every one."""
+        """Those of ``nodes`` connected to cmd_vel that drive the robot."""
         return nodes
 
     def not_taken(self, topic, nodes, wait):
-        """Why ``nodes``, connected to ``topic``, do not take its commands
-        after ``wait`` s (None: every connected node does)."""
+        """Why ``nodes`` on ``topic`` take no commands after ``wait`` s
+        (None: they do)."""
         return None
 
     def looks(self, tf, deadline):
-        """The start-up looks for the base frame: tf's answer every 1/20 s
-        until ``deadline``."""
+        """The start-up looks for the base frame (TfFollower.polls)."""
         return tf.polls(deadline)
 
     def reading(self, tf, now):
-        """(pose, stamp) of the robot at the tick ``now``, or None: the
-        newest transform."""
+        """(pose, stamp) of the robot at the tick ``now``, or None."""
         return tf.lookup()
 
     def pause(self, seconds):
@@ -80,10 +69,8 @@ class Ticks(object):
 
 
 def course_ticks(rate, wait, timeout, stop, tf_topic, odom_topic):
-    """The clock of a course node: :class:`Ticks` at ``rate`` Hz, or the
-    simulator's stepped variant when the graph steps with its nodes (with
-    ~tf_wait ``wait`` and ~tf_timeout ``timeout`` for its waits on the
-    simulator, ``stop()`` to stop the robot, and the resolved /tf and
-    odometry topics the course reads)."""
+    """:class:`Ticks` at ``rate`` Hz, or the stepped variant when the graph
+    steps with its nodes (which takes ~tf_wait, ~tf_timeout, ``stop()``
+    and the resolved topics the course reads)."""
     return (stepped_ticks(rate, wait, timeout, stop, tf_topic, odom_topic)
             or Ticks(rate))
