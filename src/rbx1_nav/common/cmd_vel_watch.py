@@ -1,24 +1,13 @@
-"""Two nodes driving one robot: the commonest real mistake.
-
-``teleop_keyboard.py`` (or a joystick node, or a second course) left
-running while a course drives: the robot jerks between the two streams of
-commands. :class:`NewPublishers` is fed the publishers of a ``cmd_vel``
-topic as the master lists them, every few seconds, and names each one
-that needs a warning once: for a node that publishes there itself, every
-other publisher; for the robot (``own`` None), every publisher once there
-are two or more.
-
-A publisher only warns: one that sends zeros (a teleop node at rest) or
-nothing does no harm. :class:`OtherDriver` is what a course does about
-one that *drives*: fed every message on its own cmd_vel with the node that
-sent it, it remembers the first other node to command motion while the
-course is armed (driving), so the course stops the robot and exits 1
-naming it (:func:`other_driver_text`).
+"""Two nodes driving one robot (a teleop left running), the commonest real
+mistake. A second publisher only warns (it may send nothing); one that drives
+during a course (:class:`OtherDriver`) has the course stop and exit 1.
 """
 
 
 class NewPublishers(object):
-    """Which publishers of a topic to warn about, each once."""
+    """Which publishers of a topic to warn about, each once: every other
+    one for a node that publishes there (``own``); for the robot (``own``
+    None), every one once there are two or more."""
 
     def __init__(self, own=None):
         self.own = own
@@ -38,8 +27,7 @@ def warning_text(topic, new, publishers, own=None):
     """The warning for ``new`` publishers among ``publishers`` of ``topic``."""
     others = sorted(set(publishers) - {own})
     if own is not None:
-        head = '%s also publish%s on %s' % (', '.join(new), 'es' * (len(new) == 1),
-                                            topic)
+        head = '%s also publish%s on %s' % (', '.join(new), 'es' * (len(new) == 1), topic)
     else:
         head = '%d nodes publish on %s: %s' % (len(others), topic, ', '.join(others))
     return ('%s; with two publishers the robot jerks between their commands. '
@@ -48,19 +36,13 @@ def warning_text(topic, new, publishers, own=None):
 
 
 def is_motion(linear, angular):
-    """True for a command that asks for any motion (NaN counts: it is not
-    a stop). ``linear`` and ``angular`` are the Twist's two triples."""
+    """True for Twist triples asking for any motion (NaN too: it is not a stop)."""
     return any(value != 0.0 for value in tuple(linear) + tuple(angular))
 
 
 class OtherDriver(object):
-    """The first node other than ``own`` to command motion on a course's
-    cmd_vel while the course is armed (:meth:`arm` .. :meth:`disarm`).
-
-    Commands heard while disarmed (a calibration node waiting for its user,
-    who drives the robot to its mark by hand) and stops (zero twists) from
-    anyone are not a fight; the publisher watch warns of those.
-    """
+    """The first node other than ``own`` to command motion while the course
+    is armed (not while a calibration's user drives it to its mark by hand)."""
 
     def __init__(self, own):
         self.own = own
@@ -74,8 +56,7 @@ class OtherDriver(object):
         self.armed = False
 
     def heard(self, caller, linear, angular):
-        """A message on cmd_vel from ``caller``: its linear and angular
-        (x, y, z) triples. True when it is the fight found."""
+        """A cmd_vel message from ``caller``; True when it is the fight."""
         if (not self.armed or self.found is not None or caller == self.own
                 or not is_motion(linear, angular)):
             return False
@@ -84,11 +65,9 @@ class OtherDriver(object):
 
 
 def other_driver_text(topic, found):
-    """The error when ``found`` (OtherDriver.found) drove the robot on
-    ``topic`` during the course."""
+    """The error when ``found`` (OtherDriver.found) drove on ``topic``."""
     caller, linear, angular = found
-    return ('%s commanded the robot on %s (%.3g m/s, %.3g rad/s) while this '
-            'course drove it: two nodes driving one robot, the course cannot '
-            'end where it should. Stopped the robot. Fix: stop the other '
-            'node (rosnode kill %s) or remap one of them to another topic '
+    return ('%s commanded the robot on %s (%.3g m/s, %.3g rad/s) while this course drove it: two '
+            'nodes driving one robot, the course cannot end where it should. Stopped the robot. '
+            'Fix: stop the other node (rosnode kill %s) or remap one of them to another topic '
             '(cmd_vel:=...)' % (caller, topic, linear, angular, caller))

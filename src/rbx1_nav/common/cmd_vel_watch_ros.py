@@ -1,10 +1,4 @@
-"""Warn when a second node publishes on a robot's cmd_vel (rbx1_nav.common.cmd_vel_watch).
-
-:func:`watch_publishers` looks at the master's list of publishers at
-start and every PERIOD s of wall time, from a daemon thread, over an
-XML-RPC connection with a timeout: with the master unreachable it says
-nothing new and blocks nothing.
-"""
+"""Warn of a second node on a robot's cmd_vel, from a thread: it blocks nothing."""
 import threading
 
 import rospy
@@ -16,10 +10,7 @@ PERIOD = 3.0  # wall s between looks at the master
 
 
 def watch_publishers(name, topics, own=None):
-    """Warn, prefixed ``name``, of each new publisher to warn about on
-    ``topics`` (resolved names): every other one when this node (``own``,
-    its name) publishes there, every one once two or more do when ``own``
-    is None (the robot's side)."""
+    """Warn of new publishers on ``topics`` (resolved), as NewPublishers(``own``)."""
     checks = {topic: NewPublishers(own) for topic in topics}
 
     def watch():
@@ -29,8 +20,7 @@ def watch_publishers(name, topics, own=None):
                 publishers = graph[0].get(topic, [])
                 new = checks[topic].update(publishers)
                 if new:
-                    rospy.logwarn('%s: %s', name,
-                                  warning_text(topic, new, publishers, own))
+                    rospy.logwarn('%s: %s', name, warning_text(topic, new, publishers, own))
             rospy.rostime.wallsleep(PERIOD)
 
     threading.Thread(target=watch, name='publisher_watch', daemon=True).start()

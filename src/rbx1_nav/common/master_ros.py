@@ -1,19 +1,7 @@
-"""Watch the ROS master from a thread of its own; re-register with a new one.
-
-:class:`MasterWatch` asks the master who it is (its process id and
-roslaunch's ``/run_id``) every second and calls back when it stops
-answering, answers again, or turns out to be a different master: a
-restarted roscore, which knows nothing of the nodes registered with the
-old one (see ``rbx1_nav.common.master_watch``). Each poll is its own XML-RPC
-connection with a socket timeout, never rospy's connection to the master,
-which has none: with the master unreachable, the watch waits, never the
-node.
-
-:func:`reregister` tells the new master about every topic and service
-this process has, as rospy does once at start-up. It registers rospy's
-existing publishers and subscribers rather than making new ones, so the
-connections they already have go on (closing a subscriber would drop its
-connection to a publisher that the new master does not know about).
+"""Watch the ROS master from a thread of its own; re-register with a new one
+(why: common.master_watch). Each call is its own XML-RPC connection with a
+timeout, never rospy's, which has none: an unreachable master stalls the
+watch, never the node.
 """
 import threading
 
@@ -24,8 +12,7 @@ from rbx1_nav.common.master_watch import (BACK, GONE, RESTARTED, TIMEOUT,
                                           MasterStates, proxy, reregistering_text)
 from rbx1_nav.common.rospy_private_ros import registrations
 
-__all__ = ['MasterWatch', 'proxy', 'topic_graph', 'node_answers', 'reregister',
-           'reregister_node']
+__all__ = ['MasterWatch', 'proxy', 'topic_graph', 'node_answers', 'reregister', 'reregister_node']
 
 PERIOD = 1.0  # s between polls
 ATTEMPTS = 3  # re-registrations tried after a restart, PERIOD apart
@@ -40,10 +27,7 @@ def _value(reply, what):
 
 
 def topic_graph(timeout=TIMEOUT):
-    """The master's topics as ``(publishers, subscribers, types)``, dicts
-    by topic name (of node lists, of type names); None when the master
-    cannot tell (unreachable within ``timeout`` s, an error): a caller
-    that only suggests or warns goes on without it."""
+    """The master's (publishers, subscribers, types) by topic; None if it does not answer."""
     caller_id = rospy.get_caller_id()
     try:
         with proxy(rosgraph.get_master_uri(), timeout) as master:
@@ -55,10 +39,7 @@ def topic_graph(timeout=TIMEOUT):
 
 
 def node_answers(name, timeout=TIMEOUT):
-    """True if the node ``name`` answers at the address the master has for
-    it; False if it is not registered or does not answer (a killed node
-    stays registered until another takes its name), or if the master
-    cannot tell."""
+    """Whether ``name`` answers where the master has it (a killed node stays registered)."""
     caller_id = rospy.get_caller_id()
     try:
         with proxy(rosgraph.get_master_uri(), timeout) as master:
@@ -71,12 +52,7 @@ def node_answers(name, timeout=TIMEOUT):
 
 
 def master_identity(uri, caller_id, timeout=TIMEOUT):
-    """(pid, run_id) of the master at ``uri``; raises if it does not answer.
-
-    The pid alone could repeat (a master restarted in a container often
-    gets the same one); roscore's ``/run_id`` is new on every start. A
-    bare rosmaster has no ``/run_id``: then the pid alone.
-    """
+    """(pid, run_id or None) of the master at ``uri``; raises if it does not answer."""
     with proxy(uri, timeout) as master:
         pid = _value(master.getPid(caller_id), 'getPid')
         code, _, run_id = master.getParam(caller_id, '/run_id')
@@ -89,15 +65,8 @@ def _problem(err):
 
 
 class MasterWatch(object):
-    """Polls the master every ``period`` s from a daemon thread.
-
-    ``on_gone(uri, problem)`` after GONE_AFTER failed polls in a row,
-    ``on_back(uri)`` when the same master answers again,
-    ``on_restarted(uri)`` when a different master answers. The callbacks
-    run in the watch thread; those not given are not called (use
-    gone_text and restarted_text for what to say). ``name`` starts the
-    log line when a callback fails.
-    """
+    """Polls the master every ``period`` s and calls, in its thread, ``on_gone(uri,
+    problem)``, ``on_back(uri)`` or ``on_restarted(uri)`` (MasterStates)."""
 
     def __init__(self, name, on_gone=None, on_back=None, on_restarted=None,
                  period=PERIOD, timeout=TIMEOUT):
@@ -110,12 +79,9 @@ class MasterWatch(object):
         self._thread = None
 
     def start(self):
-        """Start polling (once; later calls do nothing); call it right
-        after init_node, so the first poll sees the master the node
-        registered with."""
+        """Start polling (once): right after init_node, to see the node's own master first."""
         if self._thread is None:
-            self._thread = threading.Thread(target=self._run, daemon=True,
-                                            name='master_watch')
+            self._thread = threading.Thread(target=self._run, daemon=True, name='master_watch')
             self._thread.start()
         return self
 
@@ -137,14 +103,11 @@ class MasterWatch(object):
             try:
                 callback(*args)
             except Exception as err:  # keep watching
-                rospy.logerr('%s: handling the master %s failed: %s',
-                             self.name, event, err)
+                rospy.logerr('%s: handling the master %s failed: %s', self.name, event, err)
         return event
 
     def _run(self):
-        # The first poll at once: it names the master the node registered
-        # with. Event.wait: wall time, which a paused simulated clock
-        # does not stop.
+        # Event.wait: wall time, which a paused simulated clock does not stop.
         while not rospy.is_shutdown():
             self.poll()
             if self._stop.wait(self.period):
@@ -152,16 +115,12 @@ class MasterWatch(object):
 
 
 def reregister(timeout=TIMEOUT):
-    """Register this process's topics and services with the master.
-
-    Returns how many topics and services. Subscribers are told the
-    publishers the master knows, as at start-up, and connect to those they
-    are not connected to yet. Raises if the master does not answer.
-    """
+    """Register this process's topics and services (rospy's own, so their
+    connections go on) with the master, as rospy does at start-up; returns
+    how many of each, raises if the master does not answer."""
     uri, node_uri = rosgraph.get_master_uri(), rospy.get_node_uri()
     caller_id = rospy.get_caller_id()
-    # rospy's lock keeps the lists still; a registration stuck on an
-    # unreachable master holds it, hence the timeout.
+    # A registration stuck on an unreachable master holds rospy's lock.
     registered = registrations(timeout)
     if registered is None:
         raise RuntimeError('rospy is busy registering a topic')
@@ -182,9 +141,7 @@ def reregister(timeout=TIMEOUT):
 
 
 def reregister_node(name, uri, attempts=ATTEMPTS, pause=PERIOD):
-    """An ``on_restarted`` for a long-running node: say what happened,
-    re-register (``attempts`` times, ``pause`` s apart, should the new
-    master stop answering), and say how it went."""
+    """An ``on_restarted`` that re-registers, ``attempts`` times ``pause`` s apart."""
     rospy.logwarn(reregistering_text(name, uri))
     problem = None
     for attempt in range(attempts):
@@ -198,7 +155,6 @@ def reregister_node(name, uri, attempts=ATTEMPTS, pause=PERIOD):
         rospy.loginfo('%s: re-registered %d topics and %d services with the '
                       'new master at %s', name, topics, services, uri)
         return True
-    rospy.logwarn('%s: could not re-register with the master at %s (%s): new '
-                  'nodes cannot find this node\'s topics. Fix: restart this '
-                  'node', name, uri, problem)
+    rospy.logwarn('%s: could not re-register with the master at %s (%s): new nodes cannot find '
+                  'this node\'s topics. Fix: restart this node', name, uri, problem)
     return False

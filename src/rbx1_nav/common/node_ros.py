@@ -1,18 +1,4 @@
-"""Start-up and shutdown shared by every node of the package.
-
-:func:`start_node` answers ``--help`` without a master, says so while it
-waits for one, starts rospy with signal handling that cannot deadlock,
-keeps log calls off the master, waits for the first /clock under simulated
-time, reads and checks the node's declared private parameters
-(rbx1_nav.common.params.Param), refuses a private parameter it does not know
-from its command line or launch file (a typo), warns about other unknown
-ones (naming the nearest known one), logs the values it uses and names those
-left on the parameter server by an earlier run (params.leftovers).
-:func:`until_shutdown` runs a node's main loop; :func:`exit_node` is a
-node's last line, and waits for the node to unregister while the master
-answers. A node refuses a shutdown request the master meant for another
-node (:func:`refuse_misdirected_shutdowns`).
-"""
+"""Every node's start-up and shutdown: start_node, until_shutdown, exit_node."""
 import os
 import signal
 import sys
@@ -31,38 +17,23 @@ from rbx1_nav.common.rospy_private_ros import (set_shutdown_request_handler,
 
 
 def _shutdown_on_signal(signum, frame):
-    """A signal: shut rospy down from another thread.
-
-    rospy's own handler calls signal_shutdown in the main thread, inside
-    whatever that thread was doing. During a call to the master (a
-    set_param, say) it then waits for the master connection's lock that the
-    interrupted call holds, and the node hangs; during a publish, the
-    shutdown hook's stop goes out first and the interrupted command after
-    it. From a thread of its own, the shutdown waits for either to finish.
-    """
+    """Shut rospy down from another thread: rospy's handler runs it inside the
+    main thread's call, a hang in a call to the master (waiting for its lock)
+    and, in a publish, the hook's stop going out before the command."""
     threading.Thread(target=rospy.signal_shutdown, daemon=True,
                      args=('signal %d' % signum,)).start()
 
 
 def shut_down_on_signals(signums=(signal.SIGINT, signal.SIGTERM)):
-    """Handle ``signums`` with :func:`_shutdown_on_signal`; before
-    ``rospy.init_node(..., disable_signals=True)``."""
+    """Handle ``signums`` with :func:`_shutdown_on_signal` (init_node's disable_signals)."""
     for signum in signums:
         signal.signal(signum, _shutdown_on_signal)
 
 
 def refuse_misdirected_shutdowns():
-    """Refuse the master's shutdown request meant for another node.
-
-    When a node starts under a name the master has on record, rosmaster
-    sends the old node a shutdown request at the address it registered. If
-    the old node ended without unregistering (killed, or gone while the
-    master was slow to answer), another node may have been given its port
-    since, and that node shuts down instead (ros/ros_comm#2241): a
-    simulator given the port of an earlier calibration node would die as
-    the next one started under that name. A request naming
-    this node, and any other (``rosnode kill``), is obeyed as before.
-    """
+    """Refuse the master's shutdown meant for another node: a new node of a
+    name has it sent to the old one's address, whichever node got that port
+    since the old one ended unregistered (ros/ros_comm#2241)."""
     obey = shutdown_request_handler()
     if getattr(obey, 'refuses_misdirected', False):
         return
@@ -79,8 +50,7 @@ def refuse_misdirected_shutdowns():
 
 
 def exit_if_help(specs, doc):
-    """Print usage (``doc``, the node's docstring, and ``specs``) and exit 0
-    if the command line asks for help."""
+    """Print usage (``doc``, the node's docstring, and ``specs``) and exit 0 on --help."""
     if any(arg in ('-h', '--help') for arg in sys.argv[1:]):
         from rbx1_nav.common.params_help import usage
         print(usage(doc, specs))
@@ -91,13 +61,9 @@ ROSOUT_SETTING = '/rosout_disable_topics_generation'
 
 
 def cache_rosout_setting():
-    """Keep log calls off the master.
-
-    rospy's rosout handler reads ROSOUT_SETTING on every log call, and an
-    unset parameter is never cached: each log line is a round trip to the
-    master, slow when the master is busy (and a hang when it is gone). Set
-    to rospy's own default, the value is cached after the first read.
-    """
+    """Keep log calls off the master: rospy reads ROSOUT_SETTING on every
+    log call and caches it only once set, so each line would be a round trip
+    (a hang with the master gone). Set here to rospy's own default."""
     if not rospy.has_param(ROSOUT_SETTING):
         rospy.set_param(ROSOUT_SETTING, False)
 
@@ -107,14 +73,11 @@ CLOCK_WAIT = 5.0
 
 
 def wait_for_clock(limit=CLOCK_WAIT):
-    """Under /use_sim_time, wait up to ``limit`` wall seconds for the first
-    /clock, so the start-up line and the node's start carry real stamps
-    (ROS time is 0 until then). False if it did not come."""
+    """Under /use_sim_time, wait up to ``limit`` wall s for a /clock; False if none."""
     if not rospy.get_param('/use_sim_time', False):
         return True
     deadline = time.monotonic() + limit
-    while (rospy.Time.now().is_zero() and time.monotonic() < deadline
-           and not rospy.is_shutdown()):
+    while (rospy.Time.now().is_zero() and time.monotonic() < deadline and not rospy.is_shutdown()):
         rospy.rostime.wallsleep(0.01)
     return not rospy.Time.now().is_zero()
 
@@ -123,9 +86,8 @@ def wait_for_master(name):
     """Say so, once, while there is no master; Ctrl-C exits with status 1."""
     if rosgraph.is_master_online():
         return
-    sys.stderr.write('%s: waiting for the ROS master at %s: start roscore, or '
-                     'check ROS_MASTER_URI (Ctrl-C to give up)\n'
-                     % (name, rosgraph.get_master_uri()))
+    sys.stderr.write('%s: waiting for the ROS master at %s: start roscore, or check ROS_MASTER_URI '
+                     '(Ctrl-C to give up)\n' % (name, rosgraph.get_master_uri()))
     try:
         while not rosgraph.is_master_online():
             rospy.rostime.wallsleep(0.5)
@@ -133,22 +95,8 @@ def wait_for_master(name):
         raise SystemExit(1)
 
 
-def read_params(specs):
-    """Values of the node's private parameters ``specs``.
-
-    Raises ValueError naming every unusable value and the command that
-    clears each from the parameter server.
-    """
-    return params.check_all(
-        specs, lambda name, default: rospy.get_param('~' + name, default),
-        rospy.get_name())
-
-
 def warn_unknown(name, specs):
-    """One warning per private parameter on the server that no spec
-    declares, left there by an earlier run; False, with one error instead,
-    when one came from this node's command line or launch file (a typo:
-    params.typos)."""
+    """Warn of unknown private parameters; False (logged) if one is a typo."""
     given = rospy.get_param('~', {})
     found = params.unknown(given if isinstance(given, dict) else {}, specs)
     refused = params.typos(found, sys.argv)
@@ -162,14 +110,9 @@ def warn_unknown(name, specs):
 
 
 def start_node(name, specs, doc, clock=True):
-    """--help (``doc`` and ``specs``), init_node, then read and log ``specs``.
-
-    ``clock`` false skips the wait for the first /clock: for the node that
-    publishes it.
-
-    Returns the values, or None (logged, with how to clear a bad value) if
-    any is unusable or a parameter given to the node is unknown.
-    """
+    """--help (``doc`` and ``specs``), init_node, then read and log ``specs``;
+    ``clock`` false (the node that publishes it) skips waiting for /clock.
+    Returns the values, or None (logged) if one is unusable or unknown."""
     exit_if_help(specs, doc)
     wait_for_master(name)
     shut_down_on_signals()
@@ -181,7 +124,8 @@ def start_node(name, specs, doc, clock=True):
     if not warn_unknown(name, specs):
         return None
     try:
-        values = read_params(specs)
+        values = params.check_all(
+            specs, lambda key, default: rospy.get_param('~' + key, default), rospy.get_name())
     except ValueError as err:
         rospy.logerr('%s: bad parameters, not moving: %s', name, err)
         return None
@@ -193,8 +137,7 @@ def start_node(name, specs, doc, clock=True):
 
 
 def until_shutdown(loop):
-    """Run a node's main ``loop``; a publish that shutdown closed under it
-    (a signal shuts rospy down in another thread) ends it quietly."""
+    """Run a node's main ``loop``; a publish a shutdown closed under it ends it quietly."""
     try:
         loop()
     except rospy.ROSException:
@@ -202,16 +145,14 @@ def until_shutdown(loop):
             raise
 
 
-#: Wall seconds rospy's shutdown (hooks, then unregistering from the
-#: master) may take, unless the master answered meanwhile.
+#: Wall seconds rospy's shutdown may take, unless the master answered meanwhile.
 SHUTDOWN_LIMIT = 1.0
 #: Wall seconds after which the node exits even though the master answers.
 SHUTDOWN_BACKSTOP = 10.0
 
 
 def _ask_master(timeout):
-    """Ask the master who it is, in a thread of its own; return an Event
-    set once it has answered (within ``timeout`` s)."""
+    """An Event set once the master answers (within ``timeout`` s)."""
     answered = threading.Event()
 
     def ask():
@@ -226,32 +167,18 @@ def _ask_master(timeout):
 
 
 def _shut_down(reason):
-    """rospy's shutdown, or the end of the one already under way (a
-    signal's, the master's request): rospy runs its hooks, unregistering
-    from the master among them, holding its shutdown lock."""
+    """rospy's shutdown (hooks, then unregistering), or the end of one under way."""
     rospy.signal_shutdown(reason)
     wait_for_shutdown()
 
 
 def exit_node(name, status):
     """Shut rospy down and exit with ``status`` (the last line of a node).
-
-    Shutdown hooks run first (a motion node's stop goes out); rospy then
-    unregisters from the master over a connection without a timeout, which
-    hangs for minutes when the master is unreachable. A shutdown already
-    under way (Ctrl-C's) is waited for too: a node that exits before it has
-    unregistered stays on the master's record, and the next node of its
-    name has the master send a shutdown to its old address, whichever node
-    has that port by then (refuse_misdirected_shutdowns). So the node waits
-    in rounds of SHUTDOWN_LIMIT wall seconds, asking the master who it is
-    meanwhile: while the master answers, however busy, it waits on (up to
-    SHUTDOWN_BACKSTOP); once a round passes without an answer (the link
-    down, the master killed or hung) it exits without unregistering, and
-    the master drops it when it next fails to reach it.
-    """
+    rospy unregisters without a timeout, a hang with the master unreachable,
+    yet a node gone unregistered stays on record (refuse_misdirected_shutdowns):
+    so wait while the master answers, up to SHUTDOWN_BACKSTOP."""
     started = time.monotonic()
-    done = threading.Thread(target=_shut_down, daemon=True,
-                            args=('%s finished' % name,))
+    done = threading.Thread(target=_shut_down, daemon=True, args=('%s finished' % name,))
     done.start()
     while True:
         answered = _ask_master(SHUTDOWN_LIMIT)

@@ -1,16 +1,8 @@
-"""Checks for ROS parameter values, shared by every node of the package.
-
-A node reads a raw value with ``rospy.get_param`` and passes it, with the
-parameter's name, to one of these functions. Each returns the value in the
-type the node needs or raises ValueError with a message that names the
-parameter, so the node can log one clear line and exit. No rospy here.
-
-Parameter servers are loose about types: YAML 1.1 (rosparam) reads ``1e6``
-as a string, and ``_publish_tf:=false`` on a command line or ``value="false"``
-in a launch file arrive as booleans, but a quoted ``'false'`` arrives as a
-string. So numbers are accepted as numeric strings too, and flags as the
-strings 'true' / 'false'; bools are never numbers and numbers never flags.
-An error quotes at most 200 characters of a bad value.
+"""Checks for ROS parameter values: each returns a raw value in the type the
+node needs or raises ValueError naming the parameter (quoting <= 200 chars).
+rosparam's YAML 1.1 reads ``1e6`` and ``'false'`` as strings, so numbers may
+be numeric strings and flags 'true' / 'false'; bools are never numbers, nor
+numbers flags. No rospy here.
 """
 import difflib
 import math
@@ -42,8 +34,7 @@ def _range_text(minimum, maximum, allow_zero):
     if minimum is not None:
         exclusive = minimum == 0 and not allow_zero
         parts.append('%s %g' % ('>' if exclusive else '>=', minimum))
-    zero_in_range = ((minimum is None or minimum < 0)
-                     and (maximum is None or maximum > 0))
+    zero_in_range = ((minimum is None or minimum < 0) and (maximum is None or maximum > 0))
     if not allow_zero and zero_in_range:
         parts.append('!= 0')
     if maximum is not None:
@@ -52,13 +43,7 @@ def _range_text(minimum, maximum, allow_zero):
 
 
 def number(name, value, minimum=None, maximum=None, allow_zero=True):
-    """``value`` as a finite float within ``[minimum, maximum]``.
-
-    Accepts ints, floats and numeric strings ('1e6'); rejects bools, NaN,
-    infinity, values outside the bounds (both inclusive; None = unbounded)
-    and, if ``allow_zero`` is false, zero: ``minimum=0, allow_zero=False``
-    means "> 0".
-    """
+    """``value`` as a finite float in ``[minimum, maximum]`` (None: unbounded)."""
     result = _as_float(name, value)
     if not math.isfinite(result):
         raise ValueError('%s must be a finite number, got %.200r' % (name, value))
@@ -71,11 +56,7 @@ def number(name, value, minimum=None, maximum=None, allow_zero=True):
 
 
 def integer(name, value, minimum=None, maximum=None):
-    """``value`` as an int within ``[minimum, maximum]``.
-
-    Accepts ints, integral floats (3.0) and strings of either ('3', '1e3');
-    rejects bools, fractions, NaN and infinity.
-    """
+    """``value`` as an int in ``[minimum, maximum]``; integral floats and '1e3' too."""
     if isinstance(value, int) and not isinstance(value, bool):
         result = value
     else:
@@ -83,19 +64,15 @@ def integer(name, value, minimum=None, maximum=None):
         if not (math.isfinite(as_float) and as_float.is_integer()):
             raise ValueError('%s must be an integer, got %.200r' % (name, value))
         result = int(as_float)
-    if ((minimum is not None and result < minimum)
-            or (maximum is not None and result > maximum)):
+    if (minimum is not None and result < minimum) or (maximum is not None and result > maximum):
         raise ValueError('%s must be an integer %s, got %.200r' % (
             name, _range_text(minimum, maximum, True), value))
     return result
 
 
 def flag(name, value):
-    """``value`` as a bool: a bool, or the string 'true' or 'false' (any case).
-
-    Anything else (numbers, 'yes', '') is a ValueError rather than a guess:
-    ``bool('false')`` is True, which is how flags silently misbehave.
-    """
+    """``value`` as a bool: a bool, or 'true' / 'false' (any case). Anything
+    else is a ValueError rather than a guess: ``bool('false')`` is True."""
     if isinstance(value, bool):
         return value
     if isinstance(value, str) and value.strip().lower() in ('true', 'false'):
@@ -104,15 +81,13 @@ def flag(name, value):
 
 
 def raw(name, value, **options):
-    """``value`` as given, for a parameter another module checks;
-    ``options`` are that module's bounds, kept for --help and the docs."""
+    """``value`` as given, for another module to check (``options`` for --help)."""
     return value
 
 
 def text(name, value, allow_empty=False):
-    """``value`` as a string with surrounding whitespace removed. Where
-    empty is allowed, None is empty too: ``_plot:=`` on a command line
-    sets YAML's empty value, None."""
+    """``value`` stripped of surrounding whitespace. Where empty is allowed,
+    None is empty too (``_plot:=`` sets YAML's empty value, None)."""
     if value is None and allow_empty:
         return ''
     if not isinstance(value, str):
@@ -124,41 +99,29 @@ def text(name, value, allow_empty=False):
 
 
 def frame(name, value, allow_empty=False):
-    """``value`` as a tf2 frame id: a string, whitespace and leading '/' removed.
-
-    A frame id with whitespace inside is a ValueError, and so is an empty
-    one unless ``allow_empty`` (for parameters where empty means
-    "automatic" or "from the input").
-    """
+    """``value`` as a tf2 frame id without a leading '/' or inner whitespace;
+    '' only if ``allow_empty`` (where empty means "automatic")."""
     result = strip_leading_slash(text(name, value, allow_empty=True))
     if any(c.isspace() for c in result):
-        raise ValueError('%s must be a frame id without spaces, got %.200r'
-                         % (name, value))
+        raise ValueError('%s must be a frame id without spaces, got %.200r' % (name, value))
     if not result and not allow_empty:
         raise ValueError('%s must name a frame, got %.200r' % (name, value))
     return result
 
 
-def number_list(name, value, length, minimum=None, maximum=None,
-                allow_zero=True):
+def number_list(name, value, length, minimum=None, maximum=None, allow_zero=True):
     """``value`` as a list of ``length`` floats, each checked like :func:`number`."""
     if not isinstance(value, (list, tuple)) or len(value) != length:
-        raise ValueError('%s must be a list of %d numbers, got %.200r'
-                         % (name, length, value))
+        raise ValueError('%s must be a list of %d numbers, got %.200r' % (name, length, value))
     return [number('%s[%d]' % (name, i), item, minimum, maximum, allow_zero)
             for i, item in enumerate(value)]
 
 
 def pairs(name, value):
-    """``value`` as a list of (x, y) float pairs; '' or [] is no pairs.
-
-    Each pair must be two finite numbers; the message quotes at most 200
-    characters of a bad value.
-    """
+    """``value`` as a list of (x, y) pairs of finite floats; '' or [] is none."""
     if isinstance(value, str) and not value.strip():
         return []
-    problem = '%s must be a list of [x, y] pairs of numbers, got %.200r' % (
-        name, value)
+    problem = '%s must be a list of [x, y] pairs of numbers, got %.200r' % (name, value)
     if not isinstance(value, (list, tuple)):
         raise ValueError(problem)
     result = []
@@ -169,31 +132,23 @@ def pairs(name, value):
     return result
 
 
-# A relative ROS graph name: base names (a letter, then letters, digits and
-# underscores) joined by '/'.
+# A relative ROS graph name: base names joined by '/'.
 _RELATIVE_NAME = re.compile(r'[A-Za-z][A-Za-z0-9_]*(/[A-Za-z][A-Za-z0-9_]*)*$')
 
 
 def names(name, value, maximum=None):
-    """``value`` as a list of distinct relative ROS names (namespaces).
-
-    A leading '/' is dropped, as for frames; an empty list, a name that is
-    not a legal ROS name ('robot 1', '1robot', 'a//b') or a repeated one is
-    a ValueError, and so are more than ``maximum`` names.
-    """
+    """``value`` as a non-empty list of distinct relative ROS names (namespaces)."""
     if not isinstance(value, (list, tuple)) or not value:
         raise ValueError('%s must be a non-empty list of names such as '
                          '[robot1, robot2], got %.200r' % (name, value))
     if maximum is not None and len(value) > maximum:
-        raise ValueError('%s must hold at most %d names, got %d'
-                         % (name, maximum, len(value)))
+        raise ValueError('%s must hold at most %d names, got %d' % (name, maximum, len(value)))
     result = []
     for k, item in enumerate(value):
         item = strip_leading_slash(item.strip()) if isinstance(item, str) else item
         if not isinstance(item, str) or not _RELATIVE_NAME.match(item):
-            raise ValueError('%s[%d] must be a ROS name (letters, digits, _ '
-                             'and /, starting with a letter), got %.200r'
-                             % (name, k, value[k]))
+            raise ValueError('%s[%d] must be a ROS name (letters, digits, _ and /, starting with a '
+                             'letter), got %.200r' % (name, k, value[k]))
         if item in result:
             raise ValueError('%s names %r twice' % (name, item))
         result.append(item)
@@ -205,13 +160,8 @@ POSITIVE = dict(minimum=0.0, allow_zero=False)
 
 
 Param = namedtuple('Param', 'name default check options unit doc note')
-Param.__doc__ = """One private parameter of a node, declared once.
-
-``check`` is one of this module's functions and ``options`` its keyword
-arguments (bounds); ``unit`` and ``doc`` are for the start-up log line and
-the documentation; ``note`` goes with the unit into an error about the
-value (where a twin node or the book takes another unit, say so).
-"""
+Param.__doc__ = """A node's private parameter; ``note`` joins ``unit`` in an error
+about its value (say where a twin node or the book takes another unit)."""
 
 #: Units as an error message spells them out.
 UNIT_NAMES = {'m': 'metres', 'm/s': 'metres per second', 'rad': 'radians',
@@ -225,9 +175,8 @@ def param(name, default, check, unit='', doc='', note='', **options):
 
 
 def unit_text(spec, value):
-    """What an error about ``spec``'s ``value`` adds: ' (in radians; its
-    note; 180 deg is 3.14159 rad)', or '' for a parameter without a unit.
-    A value out of range in radians is most likely degrees: converted."""
+    """' (in radians; its note; 180 deg is 3.14159 rad)' for an error about
+    ``spec``'s ``value`` (a bad radian value is likely degrees); '' unitless."""
     if not spec.unit:
         return ''
     parts = ['in %s' % UNIT_NAMES.get(spec.unit, spec.unit)]
@@ -244,18 +193,12 @@ def unit_text(spec, value):
 
 
 def read_all(specs, lookup, prefix=''):
-    """Check every parameter of ``specs``; return (values by name, problems).
-
-    ``lookup(name, default)`` gives a parameter's raw value (for a node,
-    ``rospy.get_param('~' + name, default)``); ``prefix`` goes before each
-    name in the messages. A problem leaves the default in ``values``.
-    """
+    """(values, problems) of ``specs``, by ``lookup(name, default)``; bad ones keep the default."""
     values, problems = {}, []
     for spec in specs:
         value = lookup(spec.name, spec.default)
         try:
-            values[spec.name] = spec.check(prefix + spec.name, value,
-                                           **spec.options)
+            values[spec.name] = spec.check(prefix + spec.name, value, **spec.options)
         except ValueError as err:
             problems.append(str(err) + unit_text(spec, value))
             values[spec.name] = spec.default
@@ -263,8 +206,7 @@ def read_all(specs, lookup, prefix=''):
 
 
 def clear_text(node_name, names):
-    """How to clear the parameters ``names`` of the node ``node_name``
-    (``/nav_square``) from the parameter server, one command each."""
+    """The ``rosparam delete`` of each of ``names`` of the node ``node_name``."""
     return ('A value given as _name:=value stays on the parameter server for '
             'later runs: clear it with %s' % '; '.join(
                 'rosparam delete %s/%s' % (node_name.rstrip('/'), name)
@@ -272,17 +214,11 @@ def clear_text(node_name, names):
 
 
 def check_all(specs, lookup, node_name):
-    """The checked values of a node's private parameters ``specs``.
-
-    ``lookup`` as for :func:`read_all`. Raises ValueError naming every
-    unusable value, then the ``rosparam delete`` that clears each of them
-    from the parameter server of the node ``node_name``.
-    """
+    """The checked values, or ValueError naming each bad one and its ``rosparam delete``."""
     values, problems = read_all(specs, lookup, '~')
     if problems:
         bad = [spec.name for spec in specs if read_all([spec], lookup)[1]]
-        raise ValueError('%s. %s' % ('; '.join(problems),
-                                     clear_text(node_name, bad)))
+        raise ValueError('%s. %s' % ('; '.join(problems), clear_text(node_name, bad)))
     return values
 
 
@@ -305,8 +241,7 @@ def describe(specs, values):
 
 
 def start_text(specs, values):
-    """A node's start-up line: the parameters whose values differ from
-    their defaults (:func:`describe`), the others summed up."""
+    """A node's start-up line: :func:`describe` of the non-default values."""
     changed = [spec for spec in specs if values[spec.name] != spec.default]
     if not changed:
         return 'every parameter at its default (--help lists them)'
@@ -315,20 +250,14 @@ def start_text(specs, values):
 
 
 def unknown(given, specs):
-    """[(name, nearest known name or None)] for names in ``given`` that no
-    spec declares: typos such as ``_goal_distnace:=2``."""
+    """[(name, nearest known name or None)] for the names in ``given`` no spec declares."""
     known = [spec.name for spec in specs]
     return [(name, (difflib.get_close_matches(name, known, n=1) or [None])[0])
             for name in sorted(given) if name not in known]
 
 
 def command_line(argv):
-    """(names given as ``_name:=value`` in ``argv``, whether roslaunch
-    started the node).
-
-    roslaunch gives every node it starts a ``__log:=`` argument; rosrun
-    passes only what the user typed.
-    """
+    """(``_name:=value`` names in ``argv``, whether roslaunch (``__log:=``) started the node)."""
     given, launched = set(), False
     for arg in argv[1:]:
         name, sep, _ = arg.partition(':=')
@@ -342,21 +271,11 @@ def command_line(argv):
 
 
 def typos(found, argv):
-    """The ``found`` unknown parameters ((name, nearest) pairs, from
-    :func:`unknown`) that stop a node, and why, as a line; None when there
-    are none.
-
-    One given on the command line (``_goal_distnace:=0.5``) is a typo the
-    node must not run past: it would drive the default. So is any under
-    roslaunch (``argv`` has ``__log:=``): every launch file of the package
-    starts its nodes with clear_params, so each private parameter is the
-    launch file's own ``<param>``. Otherwise (rosrun) an unknown parameter
-    not on the command line is a leftover on the master, and only warned
-    of.
-    """
+    """The line that stops a node for ``found`` unknown parameters, or None:
+    one on the command line, or any under roslaunch (clear_params), is a typo
+    that would run on the default; others are leftovers, only warned of."""
     given, launched = command_line(argv)
-    bad = [(name, nearest) for name, nearest in found
-           if launched or name in given]
+    bad = [(name, nearest) for name, nearest in found if launched or name in given]
     if not bad:
         return None
     return ('unknown parameter%s %s %s; not starting, so a misspelt name '
@@ -368,24 +287,13 @@ def typos(found, argv):
 
 
 def leftovers(specs, values, argv, node_name):
-    """A line naming the parameters a node did not get from its own
-    command line or launch file, or None.
-
-    Every launch file of the package starts its nodes with clear_params, so
-    under roslaunch (``argv`` has ``__log:=``) the node's private parameters
-    are the launch file's own. Started otherwise (rosrun), a value that
-    differs from its default and is not a ``_name:=value`` of ``argv`` was
-    on the parameter server already: left by an earlier run on this master
-    (the parameter server keeps ``_name:=value``, a launch file's params
-    and dynamic_reconfigure's settings until the master ends) or set by
-    hand with rosparam. ``node_name`` is the node's resolved name
-    (``/calibrate_linear``), whose namespace ``rosparam delete`` clears.
-    """
+    """A line naming the non-default values a rosrun-started node did not get
+    from its command line (an earlier run's, or rosparam set), or None;
+    ``node_name`` (``/calibrate_linear``) is the namespace to delete."""
     given, launched = command_line(argv)
     if launched:
         return None
-    old = [spec for spec in specs
-           if spec.name not in given and values[spec.name] != spec.default]
+    old = [spec for spec in specs if spec.name not in given and values[spec.name] != spec.default]
     if not old:
         return None
     return ('from the parameter server, not this command line (an earlier '
@@ -394,11 +302,9 @@ def leftovers(specs, values, argv, node_name):
 
 
 def bounds(spec):
-    """A spec's bounds as its error message gives them ('> 0 and <= 2'),
-    or '' when it has none."""
+    """A spec's bounds as its error message gives them ('> 0 and <= 2'), or ''."""
     options = spec.options
-    if ('minimum' not in options and 'maximum' not in options
-            and options.get('allow_zero', True)):
+    if 'minimum' not in options and 'maximum' not in options and options.get('allow_zero', True):
         return ''
     return _range_text(options.get('minimum'), options.get('maximum'),
                        options.get('allow_zero', True))

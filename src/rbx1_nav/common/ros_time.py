@@ -1,18 +1,14 @@
-"""ROS time as every node meets it: the texts for a clock that never came
-or moved backwards, and a watch that notices the jump. No rospy here.
-"""
+"""ROS time that never came or moved backwards: texts and a watch. No rospy."""
 
 __all__ = ['ClockWatch', 'no_clock_text', 'time_moved_back_text']
 
 
 def no_clock_text(waited):
-    """What to do when /use_sim_time is true and no /clock came for
-    ``waited`` wall seconds."""
-    return ('/use_sim_time is true but nothing publishes /clock after %.1f s: '
-            'a launch with sim_speed:=N (or sim_clock.launch) publishes it; '
-            'for real time, `rosparam set /use_sim_time false` and start this '
-            'again (a launch with sim_speed leaves /use_sim_time true on the '
-            'master after it ends)' % waited)
+    """What to do when no /clock came under /use_sim_time for ``waited`` wall s."""
+    return ('/use_sim_time is true but nothing publishes /clock after %.1f s: a launch with '
+            'sim_speed:=N (or sim_clock.launch) publishes it; for real time, `rosparam set '
+            '/use_sim_time false` and start this again (a launch with sim_speed leaves '
+            '/use_sim_time true on the master after it ends)' % waited)
 
 
 class ClockWatch(object):
@@ -30,7 +26,6 @@ class ClockWatch(object):
 
 
 def time_moved_back_text(seconds, then='Restarting from the next readings'):
-    """The log line of a node when ROS time moves backwards, and ``then``
-    what it does about it."""
+    """A node's log line when ROS time moved back, ``then`` what it does."""
     return ('ROS time moved backwards by %.1f s: a bag looping or the '
             'simulator restarted? %s' % (seconds, then))
