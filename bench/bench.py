@@ -17,8 +17,14 @@ Sections (``--sections``, all but population by default):
 - speed: the default course at 1x, 10x and max, lockstep and free-running
   (free-running "max" is the speed lockstep reached); course wall time,
   speed-up, final error.
-- cpu: CPU seconds per simulated second of every node, default course,
-  lockstep at 1x.
+  The lockstep 1x run also gives the CPU seconds per simulated second of
+  every node (its own table).
+- cpu: our out-and-back beside the book's own script (bench/book/), one
+  default course each on a fresh master and ``rosrun rbx1_nav
+  fake_turtlebot.py`` at 1x, free-running as on a real robot, ``--cpu-rounds``
+  rounds alternating: CPU seconds of each course process, the robot, the
+  master and rosout; the median ratio ours / book's; the rbx1_nav modules
+  our node has loaded at exit (bench/course_cpu.py).
 - scale: N robots at 1x, separate processes and one fake_fleet
   (bench/fleet_scale.py).
 - physics: the kinematic and the physics robot (MuJoCo) side by side: each
@@ -50,6 +56,7 @@ import yaml
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 from fleet_scale import cpu_seconds, descendants, free_port  # noqa: E402
+import course_cpu  # noqa: E402
 import population  # noqa: E402
 RESULTS = os.path.join(HERE, 'results')
 SUMMARY = re.compile(r'Course complete in ([\d.]+) s')
@@ -388,6 +395,8 @@ def markdown(results):
                     '| node | CPU s / sim s |', '|---|---|']
             out += ['| %s | %.3f |' % (n, c) for n, c in sorted(cpu.items(), key=lambda i: -i[1])]
         out.append('')
+    if 'cpu' in results:
+        out += course_cpu.markdown(results['cpu'])
     if 'scale' in results:
         out += ['## Scale (1x, the default course on every robot)', '',
                 '| robots | simulators | completed | worst true error | control rate: '
@@ -461,11 +470,14 @@ def plot(results, path):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('--sections', nargs='+',
-                        default=['accuracy', 'speed', 'scale', 'physics'],
-                        choices=['accuracy', 'speed', 'scale', 'physics', 'population'],
+                        default=['accuracy', 'speed', 'cpu', 'scale', 'physics'],
+                        choices=['accuracy', 'speed', 'cpu', 'scale', 'physics',
+                                 'population'],
                         help='population (bench/population.py, its own tables) '
                         'runs only when named: it takes an hour or more')
     parser.add_argument('--runs', type=int, default=10)
+    parser.add_argument('--cpu-rounds', type=int, default=3,
+                        help='cpu: rounds of (ours, book\'s), about 80 s each')
     parser.add_argument('--robots', type=int, nargs='+', default=[1, 10, 20, 40, 80])
     parser.add_argument('--out', default=RESULTS)
     parser.add_argument('--render', action='store_true',
@@ -492,6 +504,8 @@ def main():
         results['accuracy'] = accuracy(args.runs)
     if 'speed' in args.sections:
         results['speed'] = speed()
+    if 'cpu' in args.sections:
+        results['cpu'] = course_cpu.run(args.cpu_rounds)
     if 'scale' in args.sections:
         results['scale'] = scale(args.robots)
     if 'physics' in args.sections:

@@ -1,0 +1,39 @@
+#!/usr/bin/env python3
+"""Run a Python script as __main__, then write the rbx1_nav modules it had
+loaded when it ended (bench/bench.py's cpu section).
+
+    modules_at_exit.py OUT.json SCRIPT [ARGS...]
+
+OUT.json: [[module file, lines], ...] of every ``rbx1_nav`` module in
+sys.modules at exit, written however the script ends (SystemExit too; not
+after os._exit). The script sees sys.argv as if run itself (rospy reads
+its remappings there).
+"""
+import json
+import runpy
+import sys
+
+
+def rbx1_nav_modules():
+    """[(file, lines)] of the rbx1_nav modules loaded, by file name."""
+    found = []
+    for path in sorted(m.__file__ for name, m in list(sys.modules.items())
+                       if name.split('.')[0] == 'rbx1_nav'
+                       and getattr(m, '__file__', None)):
+        with open(path, 'rb') as f:
+            found.append((path, f.read().count(b'\n')))
+    return found
+
+
+def main():
+    out, script = sys.argv[1], sys.argv[2]
+    sys.argv = sys.argv[2:]
+    try:
+        runpy.run_path(script, run_name='__main__')
+    finally:
+        with open(out, 'w') as f:
+            json.dump(rbx1_nav_modules(), f)
+
+
+if __name__ == '__main__':
+    main()
