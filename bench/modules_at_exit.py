@@ -10,19 +10,27 @@ after os._exit). The script sees sys.argv as if run itself (rospy reads
 its remappings there).
 """
 import json
+import os
 import runpy
 import sys
 
 
 def rbx1_nav_modules():
-    """[(file, lines)] of the rbx1_nav modules loaded, by file name."""
+    """[(file, lines)] of the rbx1_nav modules loaded, by file name. The
+    package's own __init__ stands for itself, not the one catkin generates
+    in a devel space to run it."""
     found = []
-    for path in sorted(m.__file__ for name, m in list(sys.modules.items())
-                       if name.split('.')[0] == 'rbx1_nav'
-                       and getattr(m, '__file__', None)):
+    for name, module in list(sys.modules.items()):
+        path = getattr(module, '__file__', None)
+        if name.split('.')[0] != 'rbx1_nav' or not path:
+            continue
+        if name == 'rbx1_nav':
+            path = next((init for init in (os.path.join(folder, '__init__.py')
+                                           for folder in module.__path__)
+                         if init != module.__file__ and os.path.isfile(init)), path)
         with open(path, 'rb') as f:
             found.append((path, f.read().count(b'\n')))
-    return found
+    return sorted(found)
 
 
 def main():
