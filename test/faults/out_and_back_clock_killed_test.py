@@ -32,8 +32,8 @@ def exit_limit(tf_timeout):
     The node notices a dead clock by waiting for it on the wall clock:
     under lockstep for its next grant, max(GRANT_LIMIT, tf_timeout) with
     sim_clock's connection closed, checked every POLL s
-    (rbx1_nav.motion.ticks_ros); otherwise its ClockWatchdog, max(2 s,
-    tf_timeout) (rbx1_nav.motion.watchdogs_ros). Both waits begin at the
+    (rbx1_nav.sim_time.course_member_ros); otherwise its ClockWatchdog,
+    max(2 s, tf_timeout) (rbx1_nav.sim_time.clock_watch_ros). Both waits begin at the
     last tick, before the kill. Then it stops the robot and logs why (at
     once), rospy's shutdown takes up to SHUTDOWN_LIMIT (then the node
     exits without it, rbx1_nav.common.node_ros.exit_node), and the

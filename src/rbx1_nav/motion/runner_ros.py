@@ -22,9 +22,7 @@ from rbx1_nav.motion.summary import stalls_text, summary_line
 from rbx1_nav.motion.tf_follow_ros import TF_TOPIC, TfFollower
 from rbx1_nav.motion.tf_guard import TransformGuard, top_speeds
 from rbx1_nav.motion.ticks_ros import course_ticks
-from rbx1_nav.motion.watchdogs_ros import (ClockWatchdog, StallWarnings,
-                                           TfAgeWarnings, require_clock,
-                                           watch_master)
+from rbx1_nav.motion.watchdogs_ros import StallWarnings, TfAgeWarnings, watch_master
 from rbx1_nav.transform_utils import Pose2D
 
 __all__ = ['MotionRunner', 'common_params', 'guarded', 'run_course_node']
@@ -80,8 +78,6 @@ class MotionRunner(object):
                              self.ticks)
         self.stalls = StallWarnings(name, self.ticks)
         self.tf_age = TfAgeWarnings(name, settings['max_tf_age'])
-        self.clock_watchdog = ClockWatchdog(name, settings['tf_timeout'],
-                                            self.stop)
         self._started = False
         # Of the course driven last: its Hold, its ticks (s from its first)
         # and the ROS time of the last tick. Under simulated time read a
@@ -131,9 +127,7 @@ class MotionRunner(object):
     def start(self):
         """Wait for the clock and start the watchdogs (once per node)."""
         if not self._started:
-            require_clock(self.settings['tf_wait'])
-            if self.ticks.watch_clock:
-                self.clock_watchdog.start()
+            self.ticks.start(self.name)
             watch_master(self.name)
             self.cmd_vel.watch_publishers(self.name)
             self._started = True

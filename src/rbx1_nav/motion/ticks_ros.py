@@ -5,7 +5,7 @@ the same methods (rbx1_nav.sim_time.stepping_ros), imported only then.
 """
 import rospy
 
-from rbx1_nav.sim_time.stepping_ros import stepped_ticks
+from rbx1_nav.sim_time.stepping_ros import stepped_ticks, watch_clock
 
 
 class Ticks(object):
@@ -14,11 +14,16 @@ class Ticks(object):
 
     #: True when the clock counts the commands: none is on its way at a tick.
     counts_commands = False
-    #: True when the runner is to watch for a stopped /clock (ClockWatchdog).
-    watch_clock = True
 
-    def __init__(self, rate):
+    def __init__(self, rate, wait, timeout, stop):
         self.rate = rate
+        self.wait, self.timeout, self.stop = wait, timeout, stop
+
+    def start(self, name):
+        """Before the first course of node ``name``: under simulated time,
+        the first /clock awaited (~tf_wait) and a stopped one watched for
+        (~tf_timeout), ``stop()`` stopping the robot."""
+        watch_clock(name, self.wait, self.timeout, self.stop)
 
     def ticks(self):
         """The control ticks (ROS times), until shutdown."""
@@ -73,4 +78,4 @@ def course_ticks(rate, wait, timeout, stop, tf_topic, odom_topic):
     steps with its nodes (which takes ~tf_wait, ~tf_timeout, ``stop()``
     and the resolved topics the course reads)."""
     return (stepped_ticks(rate, wait, timeout, stop, tf_topic, odom_topic)
-            or Ticks(rate))
+            or Ticks(rate, wait, timeout, stop))

@@ -32,6 +32,7 @@ from rbx1_nav.common.aborted import CourseAborted
 from rbx1_nav.common.publish_ros import from_ns, synchronous_publisher, to_ns
 from rbx1_nav.common.rospy_private_ros import sender
 from rbx1_nav.sim_time import member_ros as lockstep
+from rbx1_nav.sim_time.clock_watch_ros import require_clock
 from rbx1_nav.sim_time.member import BACK, aligned
 
 
@@ -46,7 +47,6 @@ class MemberTicks(object):
     robot when the owner is gone."""
 
     counts_commands = True
-    watch_clock = False  # the grants have a limit of their own
 
     def __init__(self, rate, wait, timeout, stop, tf_topic, odom_topic):
         self.rate = rate
@@ -67,6 +67,11 @@ class MemberTicks(object):
         # it; child frame -> the newest stamp (ns) heard.
         self.seen = {}
         self.heard = {}
+
+    def start(self, name):
+        """Before the first course: the first /clock awaited (a stopped one
+        needs no watch: the grants have a limit of their own)."""
+        require_clock(self.wait)
 
     def ticks(self):
         """The granted control ticks (ROS times); the caller ends the
