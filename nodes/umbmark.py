@@ -35,7 +35,7 @@ with a result, 1 otherwise.
 """
 from rbx1_nav.calibration.truth_ros import TRUTH_PARAM
 from rbx1_nav.calibration.umbmark_ros import NAME, main
-from rbx1_nav.common import params
+from rbx1_nav.common import params, params_lists
 from rbx1_nav.common.node_ros import exit_node
 from rbx1_nav.common.params import param
 from rbx1_nav.motion.command import MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED
@@ -58,9 +58,9 @@ PARAMS = (
     param('wheel_separation', 0.26, params.number, 'm',
           'the wheel base the driver assumes', minimum=0.01, maximum=10.0),
     TRUTH_PARAM,
-    param('measurements', [], params.pairs, 'm',
+    param('measurements', [], params_lists.pairs, 'm',
           'true return positions [[x, y], ...]: analyse only'),
-    param('odometry', [], params.pairs, 'm',
+    param('odometry', [], params_lists.pairs, 'm',
           "odometry's return positions of the same runs"),
     param('results', 'umbmark.yaml', params.text, '', 'results file (YAML)'),
     param('plot', 'umbmark.png', params.text, '', 'plot file (PNG); empty for none',

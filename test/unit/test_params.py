@@ -5,9 +5,9 @@ import pytest
 from hypothesis import given, strategies as st
 
 from rbx1_nav.common.params import (POSITIVE, bounds, check_all, command_line, flag, frame,
-                                    integer, leftovers, names, number, number_list,
-                                    param, raw, start_text, text)
+                                    integer, leftovers, number, param, raw, start_text, text)
 from rbx1_nav.common.params_help import markdown, usage
+from rbx1_nav.common.params_lists import names, number_list
 
 finite = st.floats(allow_nan=False, allow_infinity=False)
 

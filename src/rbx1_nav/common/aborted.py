@@ -1,8 +1,5 @@
-"""The exception a motion node's runner raises when a course cannot go on.
-
-Rospy-free, so every piece of the runner (rbx1_nav.motion.runner_ros and
-the pieces it composes) can raise it without importing the runner.
-"""
+"""The exception a motion node's runner raises when a course cannot go on: rospy-free, so the
+pieces rbx1_nav.motion.runner_ros composes can raise it without importing the runner."""
 
 
 class CourseAborted(Exception):

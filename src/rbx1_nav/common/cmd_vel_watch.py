@@ -1,17 +1,14 @@
-"""Two nodes driving one robot (a teleop left running), the commonest real
-mistake. A second publisher only warns (it may send nothing); one that drives
-during a course (:class:`OtherDriver`) has the course stop and exit 1.
-"""
+"""Two nodes driving one robot (a teleop left running), the commonest real mistake. A second
+publisher only warns (it may send nothing); one that drives during a course
+(:class:`OtherDriver`) has the course stop and exit 1."""
 
 
 class NewPublishers(object):
-    """Which publishers of a topic to warn about, each once: every other
-    one for a node that publishes there (``own``); for the robot (``own``
-    None), every one once there are two or more."""
+    """Which publishers of a topic to warn about, each once: every other one for a node that
+    publishes there (``own``); for the robot (``own`` None), all once there are two or more."""
 
     def __init__(self, own=None):
-        self.own = own
-        self.named = set()
+        self.own, self.named = own, set()
 
     def update(self, publishers):
         """The publishers (node names) to name now, in name order."""
@@ -45,8 +42,7 @@ class OtherDriver(object):
     is armed (not while a calibration's user drives it to its mark by hand)."""
 
     def __init__(self, own):
-        self.own = own
-        self.armed = False
+        self.own, self.armed = own, False
         self.found = None  # (node, linear x, angular z) of the first fight
 
     def arm(self):

@@ -12,6 +12,5 @@ def arc_step(pose, ds, dtheta):
     half = 0.5 * dtheta
     chord = ds if half == 0.0 else ds * math.sin(half) / half
     heading = pose.yaw + half
-    return Pose2D(pose.x + chord * math.cos(heading),
-                  pose.y + chord * math.sin(heading),
+    return Pose2D(pose.x + chord * math.cos(heading), pose.y + chord * math.sin(heading),
                   normalize_angle(pose.yaw + dtheta))

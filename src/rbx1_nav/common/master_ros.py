@@ -1,8 +1,6 @@
-"""Watch the ROS master from a thread of its own; re-register with a new one
-(why: common.master_watch). Each call is its own XML-RPC connection with a
-timeout, never rospy's, which has none: an unreachable master stalls the
-watch, never the node.
-"""
+"""Watch the ROS master from a thread of its own; re-register with a new one (why:
+common.master_watch). Each call is its own XML-RPC connection with a timeout, never rospy's,
+which has none: an unreachable master stalls the watch, never the node."""
 import threading
 
 import rosgraph
@@ -75,8 +73,7 @@ class MasterWatch(object):
         self.period, self.timeout = period, timeout
         self.uri = rosgraph.get_master_uri()
         self.states = MasterStates()
-        self._stop = threading.Event()
-        self._thread = None
+        self._stop, self._thread = threading.Event(), None
 
     def start(self):
         """Start polling (once): right after init_node, to see the node's own master first."""

@@ -1,12 +1,10 @@
 """Whether the ROS master went away, came back or was replaced (master_ros polls).
-rospy registers topics once: after a master restart new nodes (RViz) cannot
-find a node's topics, nor it theirs, and nothing says so. No rospy here.
-"""
+rospy registers topics once: after a master restart new nodes (RViz) cannot find a node's
+topics, nor it theirs, and nothing says so. No rospy here."""
 import re
 import xmlrpc.client
 
-#: Failed polls in a row before the master counts as gone: a lossy link
-#: must not make the warning come and go.
+#: Failed polls in a row before the master counts as gone: a lossy link must not toggle a warning.
 GONE_AFTER = 3
 
 GONE, BACK, RESTARTED = 'gone', 'back', 'restarted'
@@ -53,10 +51,8 @@ def same_master(seen, reference):
     """Whether identity (pid, run_id) ``seen`` can be the master ``reference``: a
     pid can repeat (in a container); roscore's ``/run_id`` cannot, but may be
     None (set late, or a bare rosmaster), which matches any."""
-    (pid, run_id), (reference_pid, reference_run_id) = seen, reference
-    if pid != reference_pid:
-        return False
-    return None in (run_id, reference_run_id) or run_id == reference_run_id
+    (pid, run_id), (ref_pid, ref_run_id) = seen, reference
+    return pid == ref_pid and (None in (run_id, ref_run_id) or run_id == ref_run_id)
 
 
 class MasterStates(object):

@@ -61,9 +61,8 @@ ROSOUT_SETTING = '/rosout_disable_topics_generation'
 
 
 def cache_rosout_setting():
-    """Keep log calls off the master: rospy reads ROSOUT_SETTING on every
-    log call and caches it only once set, so each line would be a round trip
-    (a hang with the master gone). Set here to rospy's own default."""
+    """Keep log calls off the master: rospy reads ROSOUT_SETTING on each log call until it is set
+    (a round trip per line, a hang with the master gone); set it to rospy's own default."""
     if not rospy.has_param(ROSOUT_SETTING):
         rospy.set_param(ROSOUT_SETTING, False)
 
@@ -173,10 +172,9 @@ def _shut_down(reason):
 
 
 def exit_node(name, status):
-    """Shut rospy down and exit with ``status`` (the last line of a node).
-    rospy unregisters without a timeout, a hang with the master unreachable,
-    yet a node gone unregistered stays on record (refuse_misdirected_shutdowns):
-    so wait while the master answers, up to SHUTDOWN_BACKSTOP."""
+    """Shut rospy down and exit with ``status`` (a node's last line). rospy unregisters without a
+    timeout, a hang with the master unreachable, yet a node gone unregistered stays on record
+    (refuse_misdirected_shutdowns): so wait while the master answers, up to SHUTDOWN_BACKSTOP."""
     started = time.monotonic()
     done = threading.Thread(target=_shut_down, daemon=True, args=('%s finished' % name,))
     done.start()

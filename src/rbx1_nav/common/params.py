@@ -1,21 +1,17 @@
-"""Checks for ROS parameter values: each returns a raw value in the type the
-node needs or raises ValueError naming the parameter (quoting <= 200 chars).
-rosparam's YAML 1.1 reads ``1e6`` and ``'false'`` as strings, so numbers may
-be numeric strings and flags 'true' / 'false'; bools are never numbers, nor
-numbers flags. No rospy here.
-"""
+"""Checks for ROS parameter values: each returns a raw value in the type the node needs or
+raises ValueError naming the parameter (quoting <= 200 chars). rosparam's YAML 1.1 reads ``1e6``
+and ``'false'`` as strings, so numbers may be numeric strings and flags 'true' / 'false'; bools
+are never numbers, nor numbers flags. Lists and names: params_lists. No rospy here."""
 import difflib
 import math
 import numbers
-import re
 from collections import namedtuple
 
 from rbx1_nav.transform_utils import strip_leading_slash
 
-__all__ = ['number', 'integer', 'flag', 'frame', 'text', 'number_list', 'pairs',
-           'names', 'raw', 'POSITIVE', 'Param', 'param', 'read_all', 'describe', 'unknown',
-           'bounds', 'clear_text', 'check_all', 'unit_text', 'UNIT_NAMES', 'start_text',
-           'command_line', 'leftovers', 'typos']
+__all__ = ['number', 'integer', 'flag', 'frame', 'text', 'raw', 'POSITIVE', 'Param', 'param',
+           'read_all', 'describe', 'unknown', 'bounds', 'clear_text', 'check_all', 'unit_text',
+           'UNIT_NAMES', 'start_text', 'command_line', 'leftovers', 'typos']
 
 
 def _as_float(name, value):
@@ -32,8 +28,7 @@ def _range_text(minimum, maximum, allow_zero):
     """'>= 0 and <= 5', '> 0', ... for an error message."""
     parts = []
     if minimum is not None:
-        exclusive = minimum == 0 and not allow_zero
-        parts.append('%s %g' % ('>' if exclusive else '>=', minimum))
+        parts.append('%s %g' % ('>' if minimum == 0 and not allow_zero else '>=', minimum))
     zero_in_range = ((minimum is None or minimum < 0) and (maximum is None or maximum > 0))
     if not allow_zero and zero_in_range:
         parts.append('!= 0')
@@ -47,8 +42,7 @@ def number(name, value, minimum=None, maximum=None, allow_zero=True):
     result = _as_float(name, value)
     if not math.isfinite(result):
         raise ValueError('%s must be a finite number, got %.200r' % (name, value))
-    if ((minimum is not None and result < minimum)
-            or (maximum is not None and result > maximum)
+    if ((minimum is not None and result < minimum) or (maximum is not None and result > maximum)
             or (not allow_zero and result == 0.0)):
         raise ValueError('%s must be %s, got %.200r' % (
             name, _range_text(minimum, maximum, allow_zero), value))
@@ -109,52 +103,6 @@ def frame(name, value, allow_empty=False):
     return result
 
 
-def number_list(name, value, length, minimum=None, maximum=None, allow_zero=True):
-    """``value`` as a list of ``length`` floats, each checked like :func:`number`."""
-    if not isinstance(value, (list, tuple)) or len(value) != length:
-        raise ValueError('%s must be a list of %d numbers, got %.200r' % (name, length, value))
-    return [number('%s[%d]' % (name, i), item, minimum, maximum, allow_zero)
-            for i, item in enumerate(value)]
-
-
-def pairs(name, value):
-    """``value`` as a list of (x, y) pairs of finite floats; '' or [] is none."""
-    if isinstance(value, str) and not value.strip():
-        return []
-    problem = '%s must be a list of [x, y] pairs of numbers, got %.200r' % (name, value)
-    if not isinstance(value, (list, tuple)):
-        raise ValueError(problem)
-    result = []
-    for k, item in enumerate(value):
-        if not isinstance(item, (list, tuple)) or len(item) != 2:
-            raise ValueError(problem)
-        result.append(tuple(number('%s[%d]' % (name, k), v) for v in item))
-    return result
-
-
-# A relative ROS graph name: base names joined by '/'.
-_RELATIVE_NAME = re.compile(r'[A-Za-z][A-Za-z0-9_]*(/[A-Za-z][A-Za-z0-9_]*)*$')
-
-
-def names(name, value, maximum=None):
-    """``value`` as a non-empty list of distinct relative ROS names (namespaces)."""
-    if not isinstance(value, (list, tuple)) or not value:
-        raise ValueError('%s must be a non-empty list of names such as '
-                         '[robot1, robot2], got %.200r' % (name, value))
-    if maximum is not None and len(value) > maximum:
-        raise ValueError('%s must hold at most %d names, got %d' % (name, maximum, len(value)))
-    result = []
-    for k, item in enumerate(value):
-        item = strip_leading_slash(item.strip()) if isinstance(item, str) else item
-        if not isinstance(item, str) or not _RELATIVE_NAME.match(item):
-            raise ValueError('%s[%d] must be a ROS name (letters, digits, _ and /, starting with a '
-                             'letter), got %.200r' % (name, k, value[k]))
-        if item in result:
-            raise ValueError('%s names %r twice' % (name, item))
-        result.append(item)
-    return result
-
-
 # Options for a number that must be greater than zero: number(..., **POSITIVE).
 POSITIVE = dict(minimum=0.0, allow_zero=False)
 
@@ -165,8 +113,7 @@ about its value (say where a twin node or the book takes another unit)."""
 
 #: Units as an error message spells them out.
 UNIT_NAMES = {'m': 'metres', 'm/s': 'metres per second', 'rad': 'radians',
-              'rad/s': 'radians per second', 'deg': 'degrees', 's': 'seconds',
-              'Hz': 'hertz'}
+              'rad/s': 'radians per second', 'deg': 'degrees', 's': 'seconds', 'Hz': 'hertz'}
 
 
 def param(name, default, check, unit='', doc='', note='', **options):
@@ -207,10 +154,9 @@ def read_all(specs, lookup, prefix=''):
 
 def clear_text(node_name, names):
     """The ``rosparam delete`` of each of ``names`` of the node ``node_name``."""
-    return ('A value given as _name:=value stays on the parameter server for '
-            'later runs: clear it with %s' % '; '.join(
-                'rosparam delete %s/%s' % (node_name.rstrip('/'), name)
-                for name in names))
+    deletes = '; '.join('rosparam delete %s/%s' % (node_name.rstrip('/'), name) for name in names)
+    return ('A value given as _name:=value stays on the parameter server for later runs: clear '
+            'it with %s' % deletes)
 
 
 def check_all(specs, lookup, node_name):
@@ -278,12 +224,11 @@ def typos(found, argv):
     bad = [(name, nearest) for name, nearest in found if launched or name in given]
     if not bad:
         return None
-    return ('unknown parameter%s %s %s; not starting, so a misspelt name '
-            'does not run on its default. Fix the name (--help lists them)' % (
-                's' * (len(bad) > 1),
-                ', '.join('~%s%s' % (name, ' (did you mean ~%s?)' % nearest
-                                     if nearest else '') for name, nearest in bad),
-                'in the launch file' if launched else 'on the command line'))
+    listed = ', '.join('~%s%s' % (name, ' (did you mean ~%s?)' % nearest if nearest else '')
+                       for name, nearest in bad)
+    where = 'in the launch file' if launched else 'on the command line'
+    return ('unknown parameter%s %s %s; not starting, so a misspelt name does not run on its '
+            'default. Fix the name (--help lists them)' % ('s' * (len(bad) > 1), listed, where))
 
 
 def leftovers(specs, values, argv, node_name):
@@ -304,7 +249,5 @@ def leftovers(specs, values, argv, node_name):
 def bounds(spec):
     """A spec's bounds as its error message gives them ('> 0 and <= 2'), or ''."""
     options = spec.options
-    if 'minimum' not in options and 'maximum' not in options and options.get('allow_zero', True):
-        return ''
     return _range_text(options.get('minimum'), options.get('maximum'),
                        options.get('allow_zero', True))

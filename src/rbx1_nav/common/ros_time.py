@@ -20,9 +20,7 @@ class ClockWatch(object):
     def moved_back(self, now):
         """Seconds ROS time went back since the previous call (0.0 if not)."""
         last, self.last = self.last, now
-        if last is None or now >= last:
-            return 0.0
-        return last - now
+        return 0.0 if last is None or now >= last else last - now
 
 
 def time_moved_back_text(seconds, then='Restarting from the next readings'):

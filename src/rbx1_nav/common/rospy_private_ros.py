@@ -1,7 +1,6 @@
 """Every use of rospy's private names, each checked by test_rospy_private.py.
-Not here, as rospy documents them: ``rospy.core.is_shutdown_requested`` (True
-while shutdown hooks run), ``rospy.rostime.wallsleep`` and ``rospy.names.ns_join``.
-"""
+Not here, as rospy documents them: ``rospy.core.is_shutdown_requested`` (True while shutdown
+hooks run), ``rospy.rostime.wallsleep`` and ``rospy.names.ns_join``."""
 import fcntl
 import struct
 import termios
@@ -122,8 +121,7 @@ def registrations(timeout):
     if not topics.lock.acquire(timeout=timeout):
         return None
     try:
-        publications = topics.get_publications()
-        subscriptions = topics.get_subscriptions()
+        publications, subscriptions = topics.get_publications(), topics.get_subscriptions()
     finally:
         topics.lock.release()
     return publications, subscriptions, get_service_manager().get_services()

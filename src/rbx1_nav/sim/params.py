@@ -14,8 +14,8 @@ it is made, so a physics setting counts only with ~physics. No rospy here.
 from dataclasses import dataclass
 from typing import Any
 
-from rbx1_nav.common.params import (POSITIVE, flag, frame, integer, names, number,
-                                    number_list, param, raw, text)
+from rbx1_nav.common.params import POSITIVE, flag, frame, integer, number, param, raw, text
+from rbx1_nav.common.params_lists import names, number_list
 from rbx1_nav.sim.floors import floor_name
 
 __all__ = ['PARAMS', 'ROBOTS', 'TOPIC_PARAMS', 'DIFF_DRIVE_PARAMS', 'PHYSICS_PARAMS',
