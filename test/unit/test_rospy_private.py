@@ -10,8 +10,10 @@ import socket
 import struct
 import termios
 import threading
+import time
 
 import rosgraph.network
+import rosgraph.xmlrpc
 import rospy
 import rospy.core
 import rospy.impl.simtime
@@ -227,3 +229,28 @@ def test_the_module_uses_each_private_name():
                  '_shutdown_lock', 'TIOCOUTQ', 'get_topic_manager',
                  'get_service_manager', 'callerid_pub', 'endpoint_id', '_queue'):
         assert name in text, name
+
+
+def test_rosgraphs_xmlrpc_node_has_the_shutdown_and_server_the_package_wraps():
+    source = inspect.getsource(rosgraph.xmlrpc.XmlRpcNode)
+    assert re.search(r'^    def shutdown\(self, reason\):$', source, re.M)
+    assert 'self.server.serve_forever()' in source
+    assert 'server.socket.close()' in source
+
+
+def test_a_shut_down_xmlrpc_node_ends_its_loop_instead_of_spinning():
+    """rosgraph's XmlRpcNode closes its socket at shutdown and leaves its
+    thread in serve_forever(), spinning a core (ros/ros_comm#2238); wrapped,
+    the thread ends. It ends in milliseconds; 10 s is a hang guard."""
+    private.end_xmlrpc_loop_at_shutdown()
+    private.end_xmlrpc_loop_at_shutdown()  # twice: wrapped once
+    node = rosgraph.xmlrpc.XmlRpcNode(0, None)
+    thread = threading.Thread(target=node.run, daemon=True)
+    thread.start()
+    started = time.monotonic()
+    while node.uri is None and thread.is_alive() and time.monotonic() - started < 10.0:
+        time.sleep(0.01)
+    assert node.uri is not None, 'the XML-RPC server did not start'
+    node.shutdown('test')
+    thread.join(10.0)
+    assert not thread.is_alive(), 'the XML-RPC loop still runs after shutdown'

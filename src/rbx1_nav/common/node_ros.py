@@ -12,7 +12,8 @@ from rbx1_nav.common import params
 from rbx1_nav.common.master_ros import master_identity
 from rbx1_nav.common.master_watch import misdirected_text, replaced_node
 from rbx1_nav.common.ros_time import no_clock_text
-from rbx1_nav.common.rospy_private_ros import (set_shutdown_request_handler,
+from rbx1_nav.common.rospy_private_ros import (end_xmlrpc_loop_at_shutdown,
+                                              set_shutdown_request_handler,
                                               shutdown_request_handler, wait_for_shutdown)
 
 
@@ -47,6 +48,13 @@ def refuse_misdirected_shutdowns():
 
     shutdown.refuses_misdirected = True
     set_shutdown_request_handler(shutdown)
+
+
+def mend_rospy_shutdown():
+    """Before init_node: refuse a shutdown meant for another node, and end
+    the XML-RPC loop rospy leaves spinning at shutdown (ros/ros_comm#2238)."""
+    refuse_misdirected_shutdowns()
+    end_xmlrpc_loop_at_shutdown()
 
 
 def exit_if_help(specs, doc):
@@ -115,7 +123,7 @@ def start_node(name, specs, doc, clock=True):
     exit_if_help(specs, doc)
     wait_for_master(name)
     shut_down_on_signals()
-    refuse_misdirected_shutdowns()
+    mend_rospy_shutdown()
     rospy.init_node(name, disable_signals=True)
     cache_rosout_setting()
     if clock and not wait_for_clock(CLOCK_WAIT):

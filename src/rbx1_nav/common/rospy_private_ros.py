@@ -4,18 +4,21 @@ hooks run), ``rospy.rostime.wallsleep`` and ``rospy.names.ns_join``."""
 import fcntl
 import struct
 import termios
+import threading
 
 import rospy
 import rospy.core
 import rospy.impl.simtime
 import rospy.rostime
+import rosgraph.xmlrpc
 from rospy.impl.masterslave import ROSHandler
 from rospy.impl.registration import get_service_manager, get_topic_manager
 
 __all__ = ['connection_header', 'sender', 'connections', 'subscribed_connections',
            'published_connections', 'publisher_name', 'subscriber_name', 'transport_header',
            'unsent_bytes', 'take_clock_subscriber', 'set_rostime', 'shutdown_request_handler',
-           'set_shutdown_request_handler', 'wait_for_shutdown', 'registrations']
+           'set_shutdown_request_handler', 'wait_for_shutdown', 'registrations',
+           'end_xmlrpc_loop_at_shutdown']
 
 
 def connection_header(msg):
@@ -125,3 +128,25 @@ def registrations(timeout):
     finally:
         topics.lock.release()
     return publications, subscriptions, get_service_manager().get_services()
+
+
+def end_xmlrpc_loop_at_shutdown():
+    """At shutdown rospy closes its XML-RPC server's socket but never ends the
+    server's serve_forever() loop, which then spins a core at 100 % until the
+    process exits (ros/ros_comm#2238, unfixed in Noetic): over half a CPU
+    second in every node's exit. No public API reaches that server, so
+    XmlRpcNode.shutdown is wrapped to end the loop too (in a thread of its
+    own: the loop may be waiting on a reused descriptor for up to 0.5 s).
+    If rosgraph renames ``shutdown`` or ``server``, this raises at start-up."""
+    shutdown = rosgraph.xmlrpc.XmlRpcNode.shutdown
+    if getattr(shutdown, 'ends_loop', False):
+        return
+
+    def shutdown_and_end_loop(node, reason):
+        server = node.server
+        shutdown(node, reason)
+        if server is not None:
+            threading.Thread(target=server.shutdown, name='xmlrpc_end', daemon=True).start()
+
+    shutdown_and_end_loop.ends_loop = True
+    rosgraph.xmlrpc.XmlRpcNode.shutdown = shutdown_and_end_loop

@@ -21,7 +21,7 @@ from geometry_msgs.msg import Twist
 
 from rbx1_nav.common import params
 from rbx1_nav.common.cmd_vel_watch_ros import watch_publishers
-from rbx1_nav.common.node_ros import (exit_if_help, refuse_misdirected_shutdowns,
+from rbx1_nav.common.node_ros import (exit_if_help, mend_rospy_shutdown,
                                       shut_down_on_signals)
 from rbx1_nav.motion.teleop import NOT_A_TERMINAL, KeyboardTeleop, check_settings, help_text
 from rbx1_nav.motion.command import STOP
@@ -146,7 +146,7 @@ def main(specs, doc):
         return 1
     # Closing the terminal window (SIGHUP) must stop the robot too.
     shut_down_on_signals((signal.SIGINT, signal.SIGTERM, signal.SIGHUP))
-    refuse_misdirected_shutdowns()
+    mend_rospy_shutdown()
     rospy.init_node('teleop_keyboard', disable_signals=True)
     try:
         settings = check_settings(
