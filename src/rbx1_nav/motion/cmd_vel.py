@@ -1,12 +1,10 @@
-"""The rospy-free half of motion.cmd_vel_ros: the remap hint a motion node
-gives when nothing takes its cmd_vel."""
+"""The rospy-free half of motion.cmd_vel_ros: the hint when nothing takes a node's cmd_vel."""
 
 
 def listener_hint(graph, own_node, own_topic):
-    """Where ``own_node``'s commands on ``own_topic`` could go instead, from
-    the master's ``graph`` (common.master_ros.topic_graph(); None: master
-    gone). ``own_node`` hears its own topic (a second driver), so no topic
-    only it subscribes to is a driver's.
+    """Where ``own_node``'s commands on ``own_topic`` could go instead, from the master's ``graph``
+    (common.master_ros.topic_graph(); None: master gone). ``own_node`` hears its own topic (a
+    second driver), so no topic only it subscribes to is a driver's.
     """
     if graph is None:
         return 'is the robot driver running?'
@@ -15,7 +13,6 @@ def listener_hint(graph, own_node, own_topic):
                     if types.get(topic) == 'geometry_msgs/Twist'
                     and topic != own_topic and set(nodes) - {own_node})
     if not topics:
-        return ('no node takes geometry_msgs/Twist commands: is the robot '
-                'driver running?')
+        return 'no node takes geometry_msgs/Twist commands: is the robot driver running?'
     return ('these topics take Twist commands: %s. Remap to the driver\'s, '
             'e.g. cmd_vel:=%s' % (', '.join(topics), topics[0]))

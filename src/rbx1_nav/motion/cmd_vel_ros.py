@@ -1,6 +1,5 @@
-"""The runner's cmd_vel side: the publisher (the course clock's, told of
-each send), the wait for the driver to subscribe, and another node
-driving the robot (heard on the topic itself)."""
+"""The runner's cmd_vel side: the publisher (the course clock's, told of each send), the wait for
+the driver to subscribe, and another node driving the robot (heard on the topic itself)."""
 import io
 
 import rospy
@@ -28,8 +27,7 @@ class CmdVel(object):
 
     def _connections(self):
         """The publisher's connections but to our own subscriber."""
-        return [c for c in connections(self.pub)
-                if subscriber_name(c) != self.own]
+        return [c for c in connections(self.pub) if subscriber_name(c) != self.own]
 
     @staticmethod
     def message_bytes():
@@ -39,10 +37,8 @@ class CmdVel(object):
         return 4 + len(buff.getvalue())
 
     def unacknowledged(self):
-        """The most bytes of commands any connection's subscriber host has
-        not acknowledged (rospy_private_ros.unsent_bytes), None when unknown:
-        TCP delivers in order, so a command sent before these has arrived.
-        0 when the clock counts them (the robot waits for all of them)."""
+        """The most command bytes a subscriber's host has not acknowledged (TCP delivers in order:
+        older ones arrived), None if unknown; 0 when the clock counts them (the robot waits)."""
         if self.clock.counts_commands:
             return 0
         most = 0
@@ -59,13 +55,11 @@ class CmdVel(object):
         self.clock.sent(self.pub.resolved_name)
 
     def watch_publishers(self, name):
-        """Warn when another node publishes on this cmd_vel too, and hear
-        what each sends, for :meth:`other_driver`."""
+        """Warn when another node publishes on this cmd_vel too; hear each for other_driver()."""
         watch_publishers(name, [self.pub.resolved_name], own=self.own)
         if self.sub is None:
-            self.sub = rospy.Subscriber(self.pub.resolved_name, Twist,
-                                        self._on_cmd_vel, queue_size=100,
-                                        tcp_nodelay=True)
+            self.sub = rospy.Subscriber(self.pub.resolved_name, Twist, self._on_cmd_vel,
+                                        queue_size=100, tcp_nodelay=True)
 
     def _on_cmd_vel(self, msg):
         l, a = msg.linear, msg.angular
@@ -73,15 +67,12 @@ class CmdVel(object):
                           (l.x, l.y, l.z), (a.x, a.y, a.z))
 
     def other_driver(self):
-        """The error text when another node has commanded motion since
-        ``self.others.arm()``, else None."""
+        """The error text when another node has commanded motion since others.arm(), else None."""
         found = self.others.found
-        return None if found is None else other_driver_text(
-            self.pub.resolved_name, found)
+        return None if found is None else other_driver_text(self.pub.resolved_name, found)
 
     def wait_for_listener(self, wait):
-        """Wait up to ``wait`` wall s for the driver to subscribe: commands
-        sent before are lost (an open-loop course's first move cut short)."""
+        """Wait up to ``wait`` wall s for the driver to subscribe: earlier commands are lost."""
         deadline = Deadline(wait)
         while True:
             connected = {subscriber_name(c) for c in self._connections()}
@@ -94,8 +85,7 @@ class CmdVel(object):
                     self.pub.resolved_name, connected, wait)
                 if refused:
                     raise CourseAborted(refused)
-                raise CourseAborted('nothing subscribes to %s after %.1f s: %s'
-                                    % (self.pub.resolved_name, wait,
-                                       listener_hint(topic_graph(), self.own,
-                                                     self.pub.resolved_name)))
+                raise CourseAborted('nothing subscribes to %s after %.1f s: %s' % (
+                    self.pub.resolved_name, wait,
+                    listener_hint(topic_graph(), self.own, self.pub.resolved_name)))
             deadline.poll(50)

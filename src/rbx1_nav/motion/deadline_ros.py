@@ -1,8 +1,6 @@
-"""A start-up wait's limit in wall seconds. The runner's start-up waits
-(~tf_wait: the transform, a cmd_vel subscriber) wait for other processes,
-not the robot, so a launch file need not scale them with its sim_speed
-(leaving scaled values on the master for a later rosrun); and simulated
-time may not move before the course takes part in it."""
+"""A start-up wait's limit in wall seconds. Start-up waits (~tf_wait: the transform, a cmd_vel
+subscriber) wait for other processes, not the robot: no launch need scale them with sim_speed
+(leaving scaled values for a later rosrun), and sim time may not move till the course joins."""
 import time
 
 import rospy

@@ -1,8 +1,7 @@
 """The ROS side of every motion node: a course in, the robot driven and stopped.
 
-:func:`run_course_node` is a course node's main(); :class:`MotionRunner`
-owns the control loop and the zero Twist on every exit path. What each
-fault does: docs/safety.md; how the pieces fit: docs/design.md.
+:func:`run_course_node` is a course node's main(); :class:`MotionRunner` owns the control loop
+and the zero Twist on every exit path. Each fault: docs/safety.md; the pieces: docs/design.md.
 """
 import threading
 
@@ -35,61 +34,51 @@ def common_params(rate):
               minimum=1.0, maximum=1000.0),
         param('odom_frame', 'odom', params.frame, '', 'odometry frame'),
         param('base_frame', '', params.frame, '',
-              "robot frame; '' tries base_footprint, then base_link",
-              allow_empty=True),
+              "robot frame; '' tries base_footprint, then base_link", allow_empty=True),
         param('tf_wait', 5.0, params.number, 's',
-              'wait this long for /clock, the first transform and a cmd_vel '
-              'subscriber', **params.POSITIVE),
-        param('tf_timeout', 1.0, params.number, 's',
-              'stop the robot when the transform is older than this',
+              'wait this long for /clock, the first transform and a cmd_vel subscriber',
               **params.POSITIVE),
+        param('tf_timeout', 1.0, params.number, 's',
+              'stop the robot when the transform is older than this', **params.POSITIVE),
         param('link_grace', 5.0, params.number, 's',
-              'then wait this much longer for it (a Wi-Fi dropout) before '
-              'giving up', minimum=0.0, maximum=600.0),
+              'then wait this much longer for it (a Wi-Fi dropout) before giving up',
+              minimum=0.0, maximum=600.0),
         param('max_tf_age', 0.1, params.number, 's',
-              'warn when the transform steered by is older than this '
-              '(a slow link to the robot)', **params.POSITIVE),
+              'warn when the transform steered by is older than this (a slow link to the robot)',
+              **params.POSITIVE),
         param('start_delay', 0.0, params.number, 's',
               'pause before moving (e.g. for a bag recorder)', minimum=0.0),
     ) + SETTLE_PARAMS
 
 
 class MotionRunner(object):
-    """The control loop and the stop on every exit; ``settings``: the values
-    of :func:`common_params`. With ``require_tf`` false (open-loop courses)
-    a robot without the transform runs the course blind: no staleness
-    check and no final pose."""
+    """The control loop and the stop on every exit; ``settings``: the values of
+    :func:`common_params`. With ``require_tf`` false (open-loop courses) a robot without the
+    transform runs the course blind: no staleness check and no final pose."""
 
     def __init__(self, name, settings, require_tf=True):
         self.name = name
         self.settings = settings
         self.require_tf = require_tf
-        self.ticks = course_ticks(settings['rate'], settings['tf_wait'],
-                                  settings['tf_timeout'], self.stop,
-                                  rospy.resolve_name(TF_TOPIC),
+        self.ticks = course_ticks(settings['rate'], settings['tf_wait'], settings['tf_timeout'],
+                                  self.stop, rospy.resolve_name(TF_TOPIC),
                                   rospy.resolve_name(StallWarnings.TOPIC))
         self.cmd_vel = CmdVel(self.ticks)
         self.lock = threading.Lock()
         self.halted = False
-        # on_shutdown hooks run before rospy closes its topics (Ctrl-C,
-        # rosnode kill, roslaunch ending), so this stop still goes out.
+        # Before rospy closes its topics (Ctrl-C, rosnode kill, launch end): the stop goes out.
         rospy.on_shutdown(self.halt)
-        self.tf = TfFollower(name, settings['odom_frame'], settings['base_frame'],
-                             self.ticks)
+        self.tf = TfFollower(name, settings['odom_frame'], settings['base_frame'], self.ticks)
         self.stalls = StallWarnings(name, self.ticks)
         self.tf_age = TfAgeWarnings(name, settings['max_tf_age'])
         self._started = False
-        # Of the course driven last: its Hold, its ticks (s from its first)
-        # and the ROS time of the last tick. Under simulated time read a
-        # simulator's state at last_tick, not rospy.Time.now(): the last
-        # /clock heard may lag the course's ticks on a loaded machine.
+        # The last course's Hold, ticks (s from its first) and last tick (ROS time). Under
+        # simulated time read a simulator at last_tick, not Time.now(): /clock may lag when busy.
         self.hold = None
         self.tick_times = []
         self.last_tick = None
-        # Precise mode's creep speeds, learned over every course driven.
-        self.breakaway = Breakaway()
-        # Log lines name the robot in a fleet by its namespace.
-        namespace = rospy.get_namespace().strip('/')
+        self.breakaway = Breakaway()  # precise mode's creep speeds, learned over every course
+        namespace = rospy.get_namespace().strip('/')  # log lines name a fleet's robot by it
         self.robot = namespace + ': ' if namespace else ''
 
     @property
@@ -102,8 +91,7 @@ class MotionRunner(object):
         return self.tf.followed
 
     def stop(self):
-        """Command zero velocity; a no-op once rospy has closed its topics
-        (:meth:`halt` sent the stop before that)."""
+        """Command zero velocity; a no-op once rospy closed its topics (halt() stopped first)."""
         try:
             self.cmd_vel.send(Twist())
         except rospy.ROSException:
@@ -133,12 +121,10 @@ class MotionRunner(object):
             self._started = True
 
     def run(self, course, stay=False):
-        """Drive ``course``; return the final pose (None when blind), or
-        raise CourseAborted or rospy.ROSInterruptException, robot stopped.
-        With ``stay`` the clock is not told it ended (another follows)."""
+        """Drive ``course``: its final pose (None when blind), or CourseAborted or
+        ROSInterruptException raised, robot stopped. ``stay``: another follows; no leave()."""
         self.start()
-        # Until the end, another node commanding motion here is a fight.
-        self.cmd_vel.others.arm()
+        self.cmd_vel.others.arm()  # till the end, another node commanding motion is a fight
         try:
             if self.tf.followed is None:
                 self.tf.followed = self.tf.find_base_frame(
@@ -170,17 +156,14 @@ class MotionRunner(object):
         self.ticks.leave()
 
     def _check_robot_is_ours(self):
-        """CourseAborted, robot stopped, when another node drives the robot
-        or its transform is not one robot's (tf_guard)."""
-        problem = self.cmd_vel.other_driver() or (
-            self.tf.guard and self.tf.guard.problem)
+        """CourseAborted, robot stopped, if another node drives it or its tf is not one robot's."""
+        problem = self.cmd_vel.other_driver() or (self.tf.guard and self.tf.guard.problem)
         if problem:
             self.stop()
             raise CourseAborted(problem)
 
     def _drive(self, course):
-        """The control loop: the course's steps, then (with odometry) the
-        wait for a still robot; its pieces are in rbx1_nav.motion.loop."""
+        """The control loop: the course's steps, then (with odometry) a wait for a still robot."""
         blind = self.tf.followed is None
         course.breakaway = self.breakaway
         self.hold = Hold(self.name, 'tf %s -> %s' % (self.tf.odom_frame, self.tf.followed),
@@ -193,8 +176,7 @@ class MotionRunner(object):
         for now in self.ticks.ticks():
             if start is None:
                 start = now
-            # From the integer ns: the same ticks give the same seconds
-            # whenever the course began.
+            # From the integer ns: the same ticks give the same seconds whenever the course began.
             t = (now - start).to_sec()
             self.tick_times.append(t)
             self.last_tick = now
@@ -236,42 +218,35 @@ class MotionRunner(object):
             rospy.loginfo(self.robot + event)
 
     def _settled(self, course, settle):
-        """Say how the wait for a still robot after ``course`` ended, and
-        count any turn after the end in the course's yaw total."""
+        """Log how the robot settled; a turn after the end counts in the course's yaw_total."""
         waited = self.tick_times[-1] - settle.ended
         if settle.state == GAVE_UP:
-            rospy.logwarn('%s%s: the robot did not settle: odometry still '
-                          '%s %.1f s after the course ended '
-                          '(~settle_timeout); the final pose below is the '
-                          'last read, not a still one', self.robot, self.name,
+            rospy.logwarn('%s%s: the robot did not settle: odometry still %s %.1f s after the '
+                          'course ended (~settle_timeout); the final pose below is the last read, '
+                          'not a still one', self.robot, self.name,
                           'odometry still changing' if settle.sent else
-                          'commands sent before the end not yet delivered',
-                          waited)
+                          'commands sent before the end not yet delivered', waited)
         elif settle.undelivered is not None:
-            rospy.loginfo('%s%s: commands sent before the course ended were '
-                          'still on their way %.2f s after it (a slow link); '
-                          'robot still %.2f s after the end', self.robot,
-                          self.name, settle.undelivered - settle.ended, waited)
+            rospy.loginfo('%s%s: commands sent before the course ended were still on their way '
+                          '%.2f s after it (a slow link); robot still %.2f s after the end',
+                          self.robot, self.name, settle.undelivered - settle.ended, waited)
         moved = settle.moved()
         course.yaw_total += moved.yaw
         text = moved_text(moved)
         if text:
-            rospy.logwarn('%s%s: %s; the final pose below is where it stands '
-                          'now%s', self.robot, self.name, text,
-                          ' (precise mode checked its goal before that)'
+            rospy.logwarn('%s%s: %s; the final pose below is where it stands now%s', self.robot,
+                          self.name, text, ' (precise mode checked its goal before that)'
                           if course.predicts else '')
 
     def summarize(self, course, final):
         """Log the summary line (rbx1_nav.motion.summary)."""
         held = stalls_text(course.stalls, self.stalls.topic, self.stalls.heard())
         rospy.loginfo(summary_line(self.robot, course, final, self.tf.odom_frame,
-                                   self.tick_times, held,
-                                   self.hold.summary()))
+                                   self.tick_times, held, self.hold.summary()))
 
 
 def guarded(name, runner, work):
-    """Run ``work()``, stop the robot, return the exit status: 0 when
-    ``work`` returned, 1 (the reason logged) when it raised."""
+    """Run ``work()``, then stop the robot; exit status 0, or 1 (reason logged) if it raised."""
     try:
         work()
         return 0
@@ -283,8 +258,7 @@ def guarded(name, runner, work):
         rospy.logwarn('%s: interrupted; robot stopped', name)
     except Exception as err:  # log it, stop the robot, exit non-zero
         if rospy.core.is_shutdown_requested():
-            # A signal shut rospy down from another thread (common.node_ros):
-            # a call it closed under us is the interruption, not a fault.
+            # A signal shut rospy down from another thread (common.node_ros): no fault of ours.
             rospy.logwarn('%s: interrupted; robot stopped', name)
         else:
             rospy.logerr('%s: %s: %s; stopping the robot', name,
@@ -295,9 +269,8 @@ def guarded(name, runner, work):
 
 
 def run_course_node(name, specs, build_course, require_tf=True, doc=None):
-    """A course node's main(); returns its exit status. ``specs``: all its
-    parameters (:func:`common_params` among them); ``build_course(values)``
-    returns the Course to drive; ``doc`` heads ``--help``."""
+    """A course node's main(), returning its exit status. ``specs``: all its parameters
+    (common_params() among them); ``build_course(values)``: the Course; ``doc`` heads --help."""
     values = start_node(name, specs, doc)
     if values is None:
         return 1

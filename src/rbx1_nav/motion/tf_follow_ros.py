@@ -1,5 +1,4 @@
-"""Following the robot on tf (odom_frame -> base_frame) for the runner;
-every /tf message also goes to the course's clock (Ticks.arrived)."""
+"""Following the robot on tf (odom -> base); each /tf message also goes to Ticks.arrived."""
 import rospy
 import tf2_ros
 
@@ -14,8 +13,7 @@ TF_TOPIC = '/tf'
 
 
 class _Listener(tf2_ros.TransformListener):
-    """tf2 listener (without Nagle's delay) that passes on every /tf
-    message once the buffer has it."""
+    """tf2 listener (without Nagle's delay) passing on each /tf message once the buffer has it."""
 
     def __init__(self, buffer, on_message):
         self.on_message = on_message
@@ -27,8 +25,7 @@ class _Listener(tf2_ros.TransformListener):
 
 
 class TfFollower(object):
-    """The transform ``odom_frame -> base_frame`` the node steers by;
-    ``clock`` is the course's (a Ticks)."""
+    """The transform ``odom_frame -> base_frame`` steered by; ``clock``: the course's (a Ticks)."""
 
     def __init__(self, name, odom_frame, base_frame, clock):
         self.name = name
@@ -42,8 +39,7 @@ class TfFollower(object):
         self.listener = _Listener(self.buffer, self._on_tf)
 
     def _on_tf(self, msg):
-        """Each update of the followed transform to ``guard``, every
-        message to the clock."""
+        """Each update of the followed transform to ``guard``, every message to the clock."""
         guard = self.guard  # read once: run() clears it from another thread
         if guard is not None:
             for t in msg.transforms:
@@ -54,9 +50,8 @@ class TfFollower(object):
         self.clock.arrived(self.tf_topic, msg, msg)
 
     def find_base_frame(self, wait, require_tf):
-        """Wait up to ``wait`` wall s for odom -> base; return the base
-        frame found, else None (blind) or, with ``require_tf``,
-        CourseAborted."""
+        """Wait up to ``wait`` wall s for odom -> base; return the base frame found, else None
+        (blind) or, with ``require_tf``, CourseAborted."""
         candidates = self.candidates()
         rospy.loginfo('Waiting up to %.1f s for tf %s -> %s', wait,
                       self.odom_frame, ' or '.join(candidates))
@@ -69,19 +64,16 @@ class TfFollower(object):
                 break
         if rospy.is_shutdown():
             raise rospy.ROSInterruptException('shutdown while waiting for tf')
-        problem = (
-            'no transform from %s to %s after %.1f s: nothing is publishing '
-            'the robot\'s odometry on tf' % (self.odom_frame,
-                                             ' or '.join(candidates), wait))
+        problem = ('no transform from %s to %s after %.1f s: nothing is publishing the robot\'s '
+                   'odometry on tf' % (self.odom_frame, ' or '.join(candidates), wait))
         if not require_tf:
             rospy.logwarn('%s: %s; running the course open loop without a '
                           'position report', self.name, problem)
             return None
         raise CourseAborted(
-            '%s. Start the robot first: roslaunch rbx1_nav fake_turtlebot.launch '
-            'for the simulator, or the robot\'s driver (e.g. its bringup '
-            'launch) on a real robot; or set ~odom_frame / ~base_frame to the '
-            'frames your robot uses.' % problem)
+            '%s. Start the robot first: roslaunch rbx1_nav fake_turtlebot.launch for the '
+            'simulator, or the robot\'s driver (e.g. its bringup launch) on a real robot; or set '
+            '~odom_frame / ~base_frame to the frames your robot uses.' % problem)
 
     def polls(self, deadline):
         """The first candidate tf has, or None, every 1/20 wall s."""
@@ -98,8 +90,7 @@ class TfFollower(object):
         return (self.base_frame,) if self.base_frame else BASE_FRAME_CANDIDATES
 
     def lookup(self, stamp=None):
-        """(Pose2D, stamp) of odom -> base at ``stamp`` (None: the latest),
-        or None."""
+        """(Pose2D, stamp) of odom -> base at ``stamp`` (None: the latest), or None."""
         try:
             tf = self.buffer.lookup_transform(self.odom_frame, self.followed,
                                               stamp or rospy.Time(0))

@@ -1,14 +1,10 @@
-"""Is the transform a course steers by one robot's? Not when two nodes
-publish it (two robots with the same frames on one ``/tf``: tf hands the
-course whichever came last), nor when it jumps further than the robot
-could move at the course's speeds (two robots, or odometry reset by a
-restarted driver).
+"""Is the transform a course steers by one robot's? Not when two nodes publish it (two robots
+with the same frames on one ``/tf``: tf hands the course whichever came last), nor when it jumps
+further than the robot could move at the course's speeds (two robots, or a restarted driver).
 
-The limit on a jump between updates ``dt`` s apart is
-``(MARGIN x the course's top speed + EXTRA) x dt + SLACK``, for distance
-and heading alike: EXTRA and SLACK are beyond what a robot's noise, a
-filter's correction or an overshooting motor controller reach.
-No rospy: times are float seconds, angles radians.
+A jump between updates ``dt`` s apart may reach ``(MARGIN x top speed + EXTRA) x dt + SLACK``,
+distance and heading alike; EXTRA and SLACK exceed a robot's noise, a filter's correction or an
+overshooting motor controller. No rospy: times are float seconds, angles radians.
 """
 import math
 
@@ -25,14 +21,12 @@ SLACK_ANGULAR = 0.1    # rad per update
 
 #: See docs/sim_time.md, "Several robots on one master".
 FIX = ('give each robot its own frames (e.g. _odom_frame:=robot1/odom '
-       '_base_frame:=robot1/base_footprint for the course, and its robot '
-       'publishing those) or its own tf topic (/tf:=tf /tf_static:=tf_static '
-       'for every node in the robot\'s namespace)')
+       '_base_frame:=robot1/base_footprint for the course, and its robot publishing those) or its '
+       'own tf topic (/tf:=tf /tf_static:=tf_static for every node in the robot\'s namespace)')
 
 
 def top_speeds(course):
-    """(m/s, rad/s): the fastest a course's steps drive and turn (a
-    drive's heading correction counts as turning)."""
+    """(m/s, rad/s): the fastest a course's steps drive and turn (heading corrections turn too)."""
     linear = angular = 0.0
     for step in course.steps:
         axis = getattr(step, 'axis', None)
@@ -47,9 +41,8 @@ def top_speeds(course):
 
 
 class TransformGuard(object):
-    """Watches ``parent -> child`` for a second publisher and for jumps
-    (``linear`` m/s, ``angular`` rad/s: the course's top speeds).
-    ``problem``: the first problem found (a log line), or None."""
+    """Watches ``parent -> child`` for a second publisher and for jumps (``linear`` m/s,
+    ``angular`` rad/s: the course's top speeds); ``problem``: the first (a log line) or None."""
 
     def __init__(self, parent, child, linear, angular):
         self.parent, self.child = parent, child
@@ -60,18 +53,16 @@ class TransformGuard(object):
         self.problem = None
 
     def heard(self, sender, stamp, x, y, yaw):
-        """An update from node ``sender``, stamped ``stamp`` s; returns
-        ``problem``."""
+        """An update from node ``sender``, stamped ``stamp`` s; returns ``problem``."""
         if self.problem is not None:
             return self.problem
         where = 'tf %s -> %s' % (self.parent, self.child)
         if self.sender is None:
             self.sender = sender
         elif sender != self.sender:
-            self.problem = (
-                '%s comes from two nodes, %s and %s: two robots with the same '
-                'frames on one tf (the course would steer by both). Stopped '
-                'the robot. Fix: %s' % (where, self.sender, sender, FIX))
+            self.problem = ('%s comes from two nodes, %s and %s: two robots with the same '
+                            'frames on one tf (the course would steer by both). Stopped the '
+                            'robot. Fix: %s' % (where, self.sender, sender, FIX))
             return self.problem
         last, self.last = self.last, (stamp, x, y, yaw)
         if last is None or stamp < last[0]:  # first, or time moved back
@@ -89,9 +80,8 @@ class TransformGuard(object):
         else:
             return None
         self.problem = (
-            '%s moved %s, faster than the robot can at this course\'s speeds '
-            '(%g x its top speeds + %g m/s, %g rad/s): two robots with the '
-            'same frames on one tf, or the robot\'s odometry reset (a '
-            'restarted driver)? Stopped the robot. Fix: %s' % (
+            '%s moved %s, faster than the robot can at this course\'s speeds (%g x its top speeds '
+            '+ %g m/s, %g rad/s): two robots with the same frames on one tf, or the robot\'s '
+            'odometry reset (a restarted driver)? Stopped the robot. Fix: %s' % (
                 where, jump, MARGIN, EXTRA_LINEAR, EXTRA_ANGULAR, FIX))
         return self.problem

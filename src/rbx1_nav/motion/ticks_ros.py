@@ -1,28 +1,22 @@
-"""The control loop's clock: when each tick comes, and the robot's state
-at a tick. Every piece that depends on when things happen asks it, never
-a simulator; a graph that steps with its nodes supplies a variant with
-the same methods (rbx1_nav.sim_time.stepping_ros), imported only then.
-"""
+"""The control loop's clock: when each tick comes, and the robot's state at a tick. Every piece
+that depends on when things happen asks it, never a simulator; a graph that steps with its nodes
+supplies a variant with the same methods (rbx1_nav.sim_time.stepping_ros), imported only then."""
 import rospy
 
 from rbx1_nav.sim_time.stepping_ros import stepped_ticks, watch_clock
 
 
 class Ticks(object):
-    """A real robot's clock (or a free-running simulator's): a tick every
-    1/``rate`` s of ROS time, the robot's state the newest transform."""
+    """A real robot's or free-running simulator's clock: ROS-time ticks 1/``rate`` s apart."""
 
     #: True when the clock counts the commands: none is on its way at a tick.
     counts_commands = False
 
     def __init__(self, rate, wait, timeout, stop):
-        self.rate = rate
-        self.wait, self.timeout, self.stop = wait, timeout, stop
+        self.rate, self.wait, self.timeout, self.stop = rate, wait, timeout, stop
 
     def start(self, name):
-        """Before the first course of node ``name``: under simulated time,
-        the first /clock awaited (~tf_wait) and a stopped one watched for
-        (~tf_timeout), ``stop()`` stopping the robot."""
+        """Before node ``name``'s first course: under simulated time, the /clock watch."""
         watch_clock(name, self.wait, self.timeout, self.stop)
 
     def ticks(self):
@@ -33,8 +27,7 @@ class Ticks(object):
             rate.sleep()
 
     def arrived(self, topic, msg, item):
-        """A message came on ``topic`` (``item``: what the course needs of
-        it); True if kept for its tick (:meth:`take`), False to use now."""
+        """``msg`` came on ``topic``: True if ``item`` (what the course needs) waits for take()."""
         return False
 
     def take(self, topic, key):
@@ -53,8 +46,7 @@ class Ticks(object):
         return nodes
 
     def not_taken(self, topic, nodes, wait):
-        """Why ``nodes`` on ``topic`` take no commands after ``wait`` s
-        (None: they do)."""
+        """Why ``nodes`` on ``topic`` take no commands after ``wait`` s (None: they do)."""
         return None
 
     def looks(self, tf, deadline):
@@ -74,8 +66,7 @@ class Ticks(object):
 
 
 def course_ticks(rate, wait, timeout, stop, tf_topic, odom_topic):
-    """:class:`Ticks` at ``rate`` Hz, or the stepped variant when the graph
-    steps with its nodes (which takes ~tf_wait, ~tf_timeout, ``stop()``
-    and the resolved topics the course reads)."""
+    """:class:`Ticks` at ``rate`` Hz, or the stepped variant when the graph steps with its nodes
+    (given ~tf_wait, ~tf_timeout, ``stop()`` and the resolved topics the course reads)."""
     return (stepped_ticks(rate, wait, timeout, stop, tf_topic, odom_topic)
             or Ticks(rate, wait, timeout, stop))

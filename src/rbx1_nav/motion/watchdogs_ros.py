@@ -1,5 +1,4 @@
-"""The motion runner's watchdogs: the master gone or restarted, the robot
-stalled, the transform old. (A simulated /clock's: rbx1_nav.sim_time.clock_watch_ros.)"""
+"""The runner's watchdogs: master gone or restarted, robot stalled, old tf (/clock's: sim_time)."""
 import collections
 
 import rospy
@@ -13,28 +12,22 @@ WARN_PERIOD = 10.0  # s between warnings about an old transform or a stall
 
 
 def watch_master(name):
-    """Say once when the master is unreachable, back, or restarted
-    (polled off the control loop's thread: common.master_ros). The course
-    goes on: ROS 1's topic connections are peer to peer."""
-    MasterWatch(name, on_gone=lambda uri, problem: rospy.logwarn(
-        gone_text(name, uri, problem)),
-        on_back=lambda uri: rospy.loginfo('%s: the ROS master at %s is '
-                                          'back', name, uri),
-        on_restarted=lambda uri: rospy.logwarn(restarted_text(name, uri))
-    ).start()
+    """Say once when the master is unreachable, back or restarted (polled off the control loop's
+    thread); the course goes on: ROS 1's topic connections are peer to peer."""
+    MasterWatch(name, on_gone=lambda uri, problem: rospy.logwarn(gone_text(name, uri, problem)),
+                on_back=lambda uri: rospy.loginfo('%s: the ROS master at %s is back', name, uri),
+                on_restarted=lambda uri: rospy.logwarn(restarted_text(name, uri))).start()
 
 
 class StallWarnings(object):
-    """The velocities the robot measured (``odom``), for Course.stalls.
-    ``clock`` may keep them for the tick that counts them (Ticks.arrived),
-    so a tick reads the same velocities on every run."""
+    """The velocities the robot measured (``odom``), for Course.stalls. ``clock`` may keep them
+    for the tick that counts them (Ticks.arrived), so a tick reads the same ones on every run."""
 
     TOPIC = 'odom'
 
     def __init__(self, name, clock):
         self.clock = clock
-        self.stall_check = StallCheck(name, lambda text: rospy.logwarn_throttle(
-            WARN_PERIOD, text))
+        self.stall_check = StallCheck(name, lambda text: rospy.logwarn_throttle(WARN_PERIOD, text))
         # Drained by the control loop: the course is touched in one thread.
         self.velocities = collections.deque(maxlen=1000)
         self.sub = rospy.Subscriber(self.TOPIC, Odometry, self._on_odom,
@@ -55,8 +48,7 @@ class StallWarnings(object):
         return self.sub.get_num_connections() != 0
 
     def check(self, course, start):
-        """Feed the velocities heard (and those the clock kept for this
-        tick) to ``course.stalls``; ``start`` is the course's first tick."""
+        """Feed ``course.stalls`` the velocities heard or kept for this tick; ``start``: tick 0."""
         self.velocities.extend(self.clock.take(self.topic, key=lambda item: item[0]))
         self.stall_check.check(course, start, self._drain())
 
@@ -66,8 +58,7 @@ class StallWarnings(object):
 
 
 class TfAgeWarnings(object):
-    """Warn (throttled) when the transform steered by is older than
-    ``max_age`` s (~max_tf_age): the robot has moved on since."""
+    """Warn (throttled) when the tf steered by is over ``max_age`` s old: the robot moved on."""
 
     def __init__(self, name, max_age):
         self.name = name
@@ -77,8 +68,8 @@ class TfAgeWarnings(object):
         """``predicts``: the course adds the commands sent since."""
         if age > self.max_age:
             rospy.logwarn_throttle(
-                WARN_PERIOD, '%s: tf %s -> %s is %.3f s old when used (limit '
-                '~max_tf_age %.3f s): a slow link to the robot or a busy machine; '
-                '%s' % (self.name, odom_frame, base_frame, age, self.max_age,
-                        'precise mode adds the commands sent since' if predicts
-                        else 'the course steers by where the robot was'))
+                WARN_PERIOD, '%s: tf %s -> %s is %.3f s old when used (limit ~max_tf_age %.3f s): '
+                'a slow link to the robot or a busy machine; %s' % (
+                    self.name, odom_frame, base_frame, age, self.max_age,
+                    'precise mode adds the commands sent since' if predicts
+                    else 'the course steers by where the robot was'))
