@@ -221,7 +221,7 @@ class MotionRunner(object):
         """Log how the robot settled; a turn after the end counts in the course's yaw_total."""
         waited = self.tick_times[-1] - settle.ended
         if settle.state == GAVE_UP:
-            rospy.logwarn('%s%s: the robot did not settle: odometry still %s %.1f s after the '
+            rospy.logwarn('%s%s: the robot did not settle: %s %.1f s after the '
                           'course ended (~settle_timeout); the final pose below is the last read, '
                           'not a still one', self.robot, self.name,
                           'odometry still changing' if settle.sent else
