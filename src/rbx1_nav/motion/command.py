@@ -1,7 +1,6 @@
 """What a course step hands the robot: a velocity :class:`Command`, and the limits on it.
 
-No rospy here. The limits bound the parameters of every motion node;
-:func:`pose_error` measures how far a course ended from where it should.
+No rospy here. The limits bound the parameters of every motion node.
 """
 import math
 from collections import namedtuple
@@ -20,8 +19,7 @@ STOP = Command(0.0, 0.0)
 # The kinds of step (Step.kind), and a finished course's phase.
 DRIVE, TURN, PAUSE, DONE = 'drive', 'turn', 'pause', 'done'
 
-# Upper bounds that no TurtleBot-class course needs; past them a value is a
-# typo (or a unit mix-up) and the robot must not move.
+# No TurtleBot-class course needs more: past these, a value is a typo or a unit mix-up; no motion.
 MAX_LINEAR_SPEED = 2.0           # m/s
 MAX_ANGULAR_SPEED = 2 * math.pi  # rad/s
 MAX_DISTANCE = 100.0             # m, one drive

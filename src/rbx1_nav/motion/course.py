@@ -1,16 +1,14 @@
 """The course: a list of steps run one control cycle at a time, the logic of every motion node.
 
-No rospy here: the runner (``runner_ros``) calls :meth:`Course.update` each
-control cycle and publishes the Command; tests drive it with a fake clock.
+No rospy here: ``runner_ros`` calls :meth:`Course.update` each cycle, tests on a fake clock.
 """
 import math
 from collections import namedtuple
 
 from rbx1_nav.common import params
 from rbx1_nav.common.params import param
-from rbx1_nav.motion.command import (DONE, DRIVE, MAX_ANGLE, MAX_ANGULAR_SPEED,
-                                     MAX_DISTANCE, MAX_LINEAR_SPEED,
-                                     MAX_TOLERANCE, PAUSE, STOP, TURN)
+from rbx1_nav.motion.command import (DONE, MAX_ANGLE, MAX_ANGULAR_SPEED, MAX_DISTANCE,
+                                     MAX_LINEAR_SPEED, MAX_TOLERANCE, PAUSE, STOP, TURN)
 from rbx1_nav.motion.in_flight import InFlight
 from rbx1_nav.motion.precise import Breakaway
 from rbx1_nav.motion.stalls import Stalls
@@ -20,9 +18,8 @@ from rbx1_nav.transform_utils import Pose2D, normalize_angle
 __all__ = ['Course', 'Reading', 'legs_course', 'legs_params']
 
 Reading = namedtuple('Reading', 'stamp pose delay held')
-Reading.__doc__ = """What odometry said last: the pose last fed in, as read
-(before any prediction), its stamp (s), the command delay assumed (s) and
-the last time :meth:`Course.hold` was called (s)."""
+Reading.__doc__ = """What odometry said last: the pose last fed in, as read (before any
+prediction), its stamp (s), the command delay assumed (s) and when hold() was last called (s)."""
 
 
 #: Where the book's course nodes differ in goal_angle's unit, as they do.
@@ -34,9 +31,8 @@ ANGLE_NOTES = {
 }
 
 
-def legs_params(linear_speed, goal_distance, angular_speed, goal_angle,
-                angle_unit='rad', angular_tolerance=None, tolerance_unit='deg',
-                legs=None, pause=1.0):
+def legs_params(linear_speed, goal_distance, angular_speed, goal_angle, angle_unit='rad',
+                angular_tolerance=None, tolerance_unit='deg', legs=None, pause=1.0):
     """The parameters of a :func:`legs_course`, with these defaults, angles
     in 'rad' or 'deg'; a tolerance or leg count of None is no parameter."""
     def in_unit(angle, unit):
@@ -52,13 +48,11 @@ def legs_params(linear_speed, goal_distance, angular_speed, goal_angle,
         param('angular_speed', angular_speed, params.number, 'rad/s',
               'turn rate', maximum=MAX_ANGULAR_SPEED, **params.POSITIVE),
         param('goal_angle', goal_angle, params.number, angle_unit,
-              'turn after each leg (negative: clockwise)',
-              note=ANGLE_NOTES[angle_unit],
+              'turn after each leg (negative: clockwise)', note=ANGLE_NOTES[angle_unit],
               minimum=-max_angle, maximum=max_angle),
     ]
     if angular_tolerance is not None:
-        specs.append(param('angular_tolerance', angular_tolerance,
-                           params.number, tolerance_unit,
+        specs.append(param('angular_tolerance', angular_tolerance, params.number, tolerance_unit,
                            'a turn stops this much short', minimum=0.0,
                            maximum=in_unit(MAX_TOLERANCE, tolerance_unit)))
     if legs is not None:
@@ -70,25 +64,20 @@ def legs_params(linear_speed, goal_distance, angular_speed, goal_angle,
 
 
 class Course(object):
-    """Run a list of steps one control cycle at a time (STOP once done),
-    keeping what steps share: ``yaw_total`` (unwrapped, since the start),
-    ``motion_end_yaw`` (its value when the latest drive or turn ended),
-    ``in_flight``, ``stalls`` and ``breakaway`` (a runner may set its own
-    before the first update, to keep creep speeds across courses)."""
+    """Run steps one control cycle at a time (then STOP), keeping what they share: ``yaw_total``
+    (unwrapped, since the start), ``motion_end_yaw`` (its value when the latest drive or turn
+    ended), ``in_flight``, ``stalls``, ``breakaway`` (a runner may set its own before the first
+    update, to keep creep speeds across courses)."""
 
     def __init__(self, steps):
         self.steps = list(steps)
         if not self.steps:
             raise ValueError('a course needs at least one step')
         self.index = 0
-        self.start_pose = None
-        self.start_time = None
-        self.end_time = None
-        self._now = None
+        self.start_pose = self.start_time = self.end_time = None
+        self._now = self._last_yaw = None
         self._events = []
-        self._last_yaw = None
-        self.yaw_total = 0.0
-        self.motion_end_yaw = 0.0
+        self.yaw_total = self.motion_end_yaw = 0.0
         self.stamp = None  # of the pose last fed in (s)
         self.raw = None  # that pose, as read (before any prediction)
         self.held = -math.inf  # the last time hold() was called (s)
@@ -105,16 +94,8 @@ class Course(object):
     @property
     def turned(self):
         """The yaw (rad) the latest closed-loop turn measured; 0 before one."""
-        return self._progress(TURN)
-
-    @property
-    def distance(self):
-        """The distance (m) the latest closed-loop drive measured; 0 before one."""
-        return self._progress(DRIVE)
-
-    def _progress(self, kind):
         for step in reversed(self.steps[:self.index + 1]):
-            if step.kind == kind and step.progress is not None:
+            if step.kind == TURN and step.progress is not None:
                 return step.progress
         return 0.0
 
@@ -128,8 +109,7 @@ class Course(object):
         """Seconds from the first update to the end (or to the last update)."""
         if self.start_time is None:
             return 0.0
-        return (self.end_time if self.end_time is not None
-                else self._now) - self.start_time
+        return (self.end_time if self.end_time is not None else self._now) - self.start_time
 
     def log(self, text):
         """Queue a progress line (steps report through this)."""
@@ -148,12 +128,10 @@ class Course(object):
         return pose
 
     def update(self, pose, now, age=0.0):
-        """The Command to send until the next call, given a new pose (Pose2D)
-        ``age`` s old at time ``now`` (s, any origin)."""
+        """The Command till the next call for a Pose2D ``age`` s old at ``now`` (s, any origin)."""
         pose, age = Pose2D(*(float(v) for v in pose)), float(age)
         if not all(math.isfinite(v) for v in pose + (age,)):
-            raise ValueError('pose has a non-finite value: %r (age %r)'
-                             % (pose, age))
+            raise ValueError('pose has a non-finite value: %r (age %r)' % (pose, age))
         now = float(now)
         self.stamp, self.raw = now - age, pose
         self.in_flight.read(age)
@@ -212,9 +190,8 @@ class Course(object):
 
 def legs_course(distance, angle, legs, linear_speed, angular_speed,
                 tolerance=0.0, pause=0.0, approach=None, period=None):
-    """[drive ``distance``, pause, turn ``angle``, pause] x ``legs``, closed
-    loop on odometry, or open loop with a control ``period`` (s);
-    ``tolerance`` (rad): closed-loop turns'; ``approach``: precise mode."""
+    """[drive ``distance``, pause, turn ``angle``, pause] x ``legs``: closed loop on odometry, or
+    open loop at a control ``period`` (s); ``tolerance`` (rad): turns'; ``approach``: precise."""
     if angle and tolerance >= abs(angle) and approach is None and period is None:
         raise ValueError('angular_tolerance (%g deg) must be smaller than the '
                          'turn (%g deg), or every turn ends before it starts'

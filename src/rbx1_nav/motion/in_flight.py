@@ -1,7 +1,6 @@
 """The commands in flight: where a slow link's commands will take the robot.
 
-No rospy here. A Course records its commands in an :class:`InFlight`; a
-precise one steers by :meth:`InFlight.predict`; Stalls asks what ran when.
+No rospy here. A Course records its commands here; precise mode steers by :meth:`InFlight.predict`.
 """
 import bisect
 from collections import deque
@@ -13,14 +12,10 @@ __all__ = ['InFlight']
 
 
 class InFlight(object):
-    """The commands sent, and where they will have taken the robot.
-
-    A pose read over a slow link is ``age`` s old and the command sent now
-    lands ``delay`` later: :meth:`predict` adds the arcs of the commands
-    sent since ``stamp - delay``. The delay is taken as the link's the other
-    way: the smallest age of the last ``memory`` readings (a reading that
-    waited for the control tick is older).
-    """
+    """The commands sent. A pose read over a slow link is ``age`` s old and a command sent now
+    lands ``delay`` later: :meth:`predict` adds the arcs of those sent since ``stamp - delay``.
+    ``delay`` is the link's the other way: the smallest age of the last ``memory`` readings (a
+    reading that waited for the control tick is older)."""
 
     KEEP = 10.0  # s of commands kept
 
@@ -46,14 +41,12 @@ class InFlight(object):
             del self.sent[0], self.times[0]
 
     def command_at(self, when):
-        """The command the robot runs at ``when`` (s): the last one sent
-        by ``when - delay``; STOP before the first."""
+        """The command running at ``when`` (s): the last sent by ``when - delay``, else STOP."""
         ran = bisect.bisect_right(self.times, when - self.delay)
         return self.sent[ran - 1][1] if ran else STOP
 
     def predict(self, pose, now, age):
-        """``pose``, read at ``now`` and ``age`` s old, moved on by the
-        commands in flight."""
+        """``pose``, read at ``now`` and ``age`` s old, moved on by the commands in flight."""
         start = now - age - self.delay
         # From the command running at ``start``: the earlier ones ended before.
         first = max(bisect.bisect_right(self.times, start) - 1, 0)
@@ -61,6 +54,5 @@ class InFlight(object):
         for (sent, command), end in zip(self.sent[first:], ends):
             seconds = min(end, now) - max(sent, start)
             if seconds > 0.0:
-                pose = arc_step(pose, command.linear * seconds,
-                                command.angular * seconds)
+                pose = arc_step(pose, command.linear * seconds, command.angular * seconds)
         return pose

@@ -1,6 +1,5 @@
-"""The pieces the runner's control loop (MotionRunner._drive) asks at each
-tick. No rospy: times are ROS times (anything whose difference has
-``to_sec()``), the log is passed in (``warn``, ``info``).
+"""The pieces the runner's control loop (MotionRunner._drive) asks at each tick. No rospy:
+times are ROS times (anything whose difference has ``to_sec()``), the log is passed in.
 """
 from rbx1_nav.common.aborted import CourseAborted
 from rbx1_nav.motion.dropouts import HOLD, LOST, Dropouts
@@ -10,9 +9,8 @@ __all__ = ['Reading', 'Hold', 'StallCheck', 'Settling']
 
 
 class Reading(object):
-    """The newest transform read: ``pose``, its ``stamp`` (None before
-    the first), the tick ``fresh_at`` it came (or the first tick), and
-    whether the last tick brought it (``fresh``)."""
+    """The newest transform read: ``pose``, its ``stamp`` (None before the first), the tick
+    ``fresh_at`` it came (or the first tick), and whether the last tick brought it (``fresh``)."""
 
     def __init__(self, pose=None):
         self.pose = pose
@@ -23,8 +21,7 @@ class Reading(object):
         """Note what the tick at ``now`` read: (pose, stamp), or None."""
         if self.fresh_at is None:
             self.fresh_at = now
-        self.fresh = reading is not None and (self.stamp is None
-                                              or reading[1] > self.stamp)
+        self.fresh = reading is not None and (self.stamp is None or reading[1] > self.stamp)
         if self.fresh:
             self.pose, self.stamp = reading
             self.fresh_at = now
@@ -35,14 +32,11 @@ class Reading(object):
 
 
 class Hold(object):
-    """One course's ride through stale transforms (motion.dropouts): the
-    robot held, or the course aborted past ~link_grace; ``where`` names
-    the transform."""
+    """One course's ride through stale transforms (motion.dropouts): the robot held, or the
+    course aborted past ~link_grace; ``where`` names the transform."""
 
     def __init__(self, name, where, timeout, grace, stop, warn, info):
-        self.name = name
-        self.where = where
-        self.stop = stop
+        self.name, self.where, self.stop = name, where, stop
         self.warn, self.info = warn, info
         self.dropouts = Dropouts(timeout, grace)
 
@@ -56,8 +50,7 @@ class Hold(object):
             raise CourseAborted(
                 '%s (limit ~tf_timeout %.2f s + ~link_grace %.2f s): robot driver or '
                 'simulator gone, or the link to the robot down? Stopped the robot.' % (
-                    self._stale(now, reading, tick), self.dropouts.timeout,
-                    self.dropouts.grace))
+                    self._stale(now, reading, tick), self.dropouts.timeout, self.dropouts.grace))
         if tick.began:
             self.warn('%s: %s (~tf_timeout): a link dropout? Holding the robot '
                       '(zero velocity) and waiting up to ~link_grace %.1f s for it'
@@ -70,9 +63,8 @@ class Hold(object):
     def _stale(self, now, reading, tick):
         """How the transform is stale: not updated, or stamped long ago."""
         if reading.fresh_at == now:
-            return ('%s is %.2f s old by its stamp though still arriving (a link '
-                    'holding messages back, or the robot\'s clock behind this '
-                    'one\'s?)' % (self.where, tick.stale))
+            return ('%s is %.2f s old by its stamp though still arriving (a link holding messages '
+                    'back, or the robot\'s clock behind this one\'s?)' % (self.where, tick.stale))
         return '%s has not been updated for %.2f s' % (self.where, tick.stale)
 
     def summary(self):
@@ -81,46 +73,37 @@ class Hold(object):
 
 
 class StallCheck(object):
-    """Feeds the velocities the robot measured to a course's stall count,
-    warning of each spell it stood still while commanded to move."""
+    """Feeds the robot's measured velocities to a course's stall count, warning of each spell."""
 
     def __init__(self, name, warn):
-        self.name = name
-        self.warn = warn
+        self.name, self.warn = name, warn
 
     def check(self, course, start, velocities):
-        """``velocities``: (stamp, linear, angular) in stamp order;
-        ``start``: the course's first tick."""
+        """``velocities``: (stamp, linear, angular) in stamp order; ``start``: the first tick."""
         for stamp, linear, angular in velocities:
             spell = course.stalls.velocity((stamp - start).to_sec(), linear, angular)
             if spell is not None:
-                self.warn('%s: the robot stood still for %.2f s while commanded to '
-                          'move: stopped by its watchdog (commands late or lost on '
-                          'the way to it?) or held (motors off, bumper)'
-                          % (self.name, spell))
+                self.warn('%s: the robot stood still for %.2f s while commanded to move: '
+                          'stopped by its watchdog (commands late or lost on the way to it?) '
+                          'or held (motors off, bumper)' % (self.name, spell))
 
 
 class Settling(object):
-    """After the last step: the robot commanded zero at every tick until
-    ``settle`` (a motion.settle.Settle) has a still robot or gives up; the
-    stops sent are counted, so a command still on a slow link (more bytes
-    unacknowledged than the stops') is not taken for a still robot."""
+    """After the last step: the robot commanded zero at every tick until ``settle`` (a
+    motion.settle.Settle) has a still robot or gives up; the stops sent are counted, so a command
+    still on a slow link (more bytes unacknowledged than the stops') is no still robot."""
 
     def __init__(self, settle, message_bytes):
-        self.settle = settle
-        self.message_bytes = message_bytes
+        self.settle, self.message_bytes = settle, message_bytes
         self.stops = 0
 
     def done(self, held, reading, start, unacknowledged):
-        """After a stop sent: True once settled or given up. ``held``: the
-        transform is stale (the wait counts odometry's stamps, so pauses);
-        ``unacknowledged``: command bytes not yet acknowledged (None:
-        unknown)."""
+        """After a stop sent: True once settled or given up; ``held``: the transform is stale
+        (the wait, on odometry's stamps, pauses); ``unacknowledged``: bytes (None: unknown)."""
         self.stops += 1
         sent = delivered(unacknowledged, self.stops, self.message_bytes)
-        return (not held and reading.fresh
-                and self.settle.update(reading.pose, (reading.stamp - start).to_sec(),
-                                       sent) != WAITING)
+        return (not held and reading.fresh and self.settle.update(
+            reading.pose, (reading.stamp - start).to_sec(), sent) != WAITING)
 
     @property
     def waiting(self):

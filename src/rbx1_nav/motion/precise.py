@@ -1,22 +1,18 @@
-"""Precise mode: how a closed-loop drive or turn ends within millimetres.
+"""Precise mode: how a closed-loop drive or turn ends within millimetres (docs/courses.md).
 
-No rospy here. With an :class:`Approach`, a closed-loop step hands its
-cycles to a :class:`PreciseMode`; docs/courses.md, "Precise mode", has
-the user's view.
+No rospy here. With an :class:`Approach`, a closed-loop step hands its cycles to a PreciseMode.
 """
 import math
 from collections import namedtuple
 
 from rbx1_nav.common import params
 from rbx1_nav.common.params import param
-from rbx1_nav.motion.command import (DRIVE, MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED,
-                                     STOP, TURN, clamp)
+from rbx1_nav.motion.command import DRIVE, MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED, STOP, TURN, clamp
 
 __all__ = ['Approach', 'PRECISE_PARAMS', 'approach', 'Breakaway', 'PreciseMode']
 
 
-Approach = namedtuple('Approach', 'gain heading_gain min_linear_speed '
-                                  'min_angular_speed')
+Approach = namedtuple('Approach', 'gain heading_gain min_linear_speed min_angular_speed')
 Approach.__doc__ = """Precise mode's settings (see PRECISE_PARAMS)."""
 
 # Shared by every closed-loop course node.
@@ -29,11 +25,9 @@ PRECISE_PARAMS = (
     param('precise_heading_gain', 4.0, params.number, '/s',
           'turn rate per radian of heading error while driving', **params.POSITIVE),
     param('precise_min_linear_speed', 0.005, params.number, 'm/s',
-          'creep speed near a distance goal', maximum=MAX_LINEAR_SPEED,
-          **params.POSITIVE),
+          'creep speed near a distance goal', maximum=MAX_LINEAR_SPEED, **params.POSITIVE),
     param('precise_min_angular_speed', 0.01, params.number, 'rad/s',
-          'creep speed near an angle goal', maximum=MAX_ANGULAR_SPEED,
-          **params.POSITIVE),
+          'creep speed near an angle goal', maximum=MAX_ANGULAR_SPEED, **params.POSITIVE),
 )
 
 
@@ -42,19 +36,15 @@ def approach(values):
     if not values['precise']:
         return None
     return Approach(values['precise_gain'], values['precise_heading_gain'],
-                    values['precise_min_linear_speed'],
-                    values['precise_min_angular_speed'])
+                    values['precise_min_linear_speed'], values['precise_min_angular_speed'])
 
 
 class Breakaway(object):
-    """Precise mode's creep speeds, raised where the robot will not move.
-
-    Wheels stick below a breakaway speed (friction, a motor deadband, a
-    skid-steer base turning on the spot): a creep that moved the robot under
-    a tenth of itself for STILL s after it landed is raised FACTOR times
-    (at most to the step's speed) until it moves; ``speeds`` keeps the
-    minimum per kind for every later step and course sharing this object.
-    """
+    """Precise mode's creep speeds, raised where the robot will not move. Wheels stick below a
+    breakaway speed (friction, a motor deadband, a skid-steer base turning on the spot): a creep
+    that moved the robot under a tenth of itself for STILL s after it landed is raised FACTOR
+    times (at most to the step's speed) until it moves; ``speeds`` keeps the minimum per kind
+    for every later step and course sharing this object."""
 
     STILL = 0.5  # s
     FACTOR = 1.5
@@ -73,22 +63,17 @@ class Breakaway(object):
         stalled = self.pending.pop(kind, None)
         if stalled is not None:
             name = 'linear' if kind == DRIVE else 'angular'
-            log('precise mode: the robot stood still at %.4g %s and '
-                'moved at %.4g %s, below its breakaway speed; creeping '
-                'at %.4g %s or faster from now on (set '
+            log('precise mode: the robot stood still at %.4g %s and moved at %.4g %s, below its '
+                'breakaway speed; creeping at %.4g %s or faster from now on (set '
                 '~precise_min_%s_speed to it to start there)'
-                % (stalled, unit, self.speeds[kind], unit,
-                   self.speeds[kind], unit, name))
+                % (stalled, unit, self.speeds[kind], unit, self.speeds[kind], unit, name))
 
 
 class PreciseMode(object):
-    """Precise mode of one closed-loop step: approach, check, correct, unstick.
-
-    Past the goal it stops and checks on a still robot (``Course.settled``);
-    a goal missed by more than CHECK s of creep is approached again, from
-    whichever side, at most MAX_CORRECTIONS times (a late stop on a slow
-    link, a robot that coasts).
-    """
+    """Precise mode of one closed-loop step: approach, check, correct, unstick. Past the goal it
+    stops and checks on a still robot (``Course.settled``); a goal missed by more than CHECK s
+    of creep is approached again, from whichever side, at most MAX_CORRECTIONS times (a late
+    stop on a slow link, a robot that coasts)."""
 
     SETTLE = 0.1  # s
     LONGEST = 1.0  # s
@@ -132,8 +117,7 @@ class PreciseMode(object):
         return min(step.speed, max(minimum, breakaway.speeds[step.kind]))
 
     def _unstick(self, step, course, now, speed):
-        """``speed``, or more where the robot stood still at it
-        (:class:`Breakaway`), judged on poses as read, not predicted."""
+        """``speed``, raised where poses read (not predicted) show the robot still (Breakaway)."""
         read = course.reading()
         mark = self.mark
         if mark is None or read.held >= mark[0]:  # a new watch

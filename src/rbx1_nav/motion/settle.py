@@ -1,12 +1,10 @@
 """After a course's last step: wait for a still robot, then take its pose.
 
-No rospy here. A command the link delayed can move the robot after the
-course read its final pose, so the runner keeps commanding zero and feeds
-each pose to a :class:`Settle` until odometry has stood still for
-``settle_time`` s after the end and after every command sent before it
-was acknowledged (:func:`delivered`: TCP can hold one back for seconds).
-Stamps count, not the clock: a stale transform cannot be judged, and the
-runner's dropout hold (~link_grace) bounds that wait.
+No rospy here. A command the link delayed can move the robot after the course read its final
+pose, so the runner keeps commanding zero and feeds each pose to a :class:`Settle` until
+odometry stood still ``settle_time`` s after the end and after every command sent before it was
+acknowledged (:func:`delivered`: TCP can hold one back for seconds). Stamps count, not the
+clock: a stale transform cannot be judged; the dropout hold (~link_grace) bounds that wait.
 """
 import math
 from collections import namedtuple
@@ -42,17 +40,14 @@ Moved.__doc__ = """Motion after the course ended: distance (m), yaw (rad, signed
 
 
 class Settle(object):
-    """Wait for a still robot after a course that ended at pose ``end``
-    (Pose2D) at time ``ended`` (s, the clock of the poses' stamps)."""
+    """Wait for a still robot after the end: ``end`` (Pose2D), ``ended`` (s, the stamps' clock)."""
 
     def __init__(self, end, ended, settle_time, timeout):
         if not (settle_time > 0.0 and timeout > 0.0):
             raise ValueError('settle_time and timeout must be positive, got '
                              '%r and %r' % (settle_time, timeout))
-        self.end = end
-        self.ended = float(ended)
-        self.settle_time = float(settle_time)
-        self.timeout = float(timeout)
+        self.end, self.ended = end, float(ended)
+        self.settle_time, self.timeout = float(settle_time), float(timeout)
         self.pose = end  # the pose fed last
         self._anchor = end  # where the current still spell began
         self._since = float(ended)  # its stamp, not before the end
@@ -61,12 +56,10 @@ class Settle(object):
         self.undelivered = None  # the stamp (s) commands were on their way last
 
     def update(self, pose, stamp, sent=True):
-        """WAITING, STILL (the pose fed last is the settled one) or GAVE_UP
-        (stamped ``timeout`` s past the end without settling), after a new
-        pose stamped ``stamp`` (s). ``sent`` is False while commands sent
-        before the end may be on their way: no still spell begins then."""
-        self.pose = pose
-        self.sent = sent
+        """WAITING, STILL (the pose fed last is the settled one) or GAVE_UP (stamped ``timeout``
+        s past the end without settling), after a new pose stamped ``stamp`` (s). ``sent`` is
+        False while commands sent before the end may be on their way: no still spell begins."""
+        self.pose, self.sent = pose, sent
         if not sent:
             self.undelivered = float(stamp)
         if not sent or not _same(pose, self._anchor):
@@ -87,11 +80,9 @@ class Settle(object):
 
 
 def delivered(unacknowledged, sent_since, message_bytes):
-    """True when every command sent before the end has reached the robot's
-    host: ``unacknowledged`` bytes (None: unknown) are no more than the
-    ``sent_since`` commands of ``message_bytes`` sent after the end take."""
-    return (unacknowledged is None
-            or unacknowledged <= sent_since * message_bytes)
+    """True when every command sent before the end reached the robot's host: ``unacknowledged``
+    bytes (None: unknown) fit in the ``sent_since`` commands of ``message_bytes`` sent since."""
+    return unacknowledged is None or unacknowledged <= sent_since * message_bytes
 
 
 def _same(a, b):

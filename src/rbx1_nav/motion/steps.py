@@ -1,26 +1,23 @@
 """The steps a course is made of: drive a distance, turn an angle, pause.
 
-No rospy here. As in the book, a turn adds up ``normalize_angle`` of each
-change in yaw, so it works across the +-pi wrap and for turns of pi or
-more, and counts from where the previous drive or turn ended (rotation
-while stopping counts); a closed-loop step ends ``tolerance`` short of its
-goal, in its own direction, on a cycle that commands a stop.
+No rospy here. As in the book, a turn sums ``normalize_angle`` of each change in yaw (so it
+works across the +-pi wrap and for turns of pi or more) from where the previous drive or turn
+ended (rotation while stopping counts); a closed-loop step ends ``tolerance`` short of its goal,
+in its own direction, on a cycle that commands a stop.
 """
 import math
 
-from rbx1_nav.motion.command import (DRIVE, MAX_ANGULAR_SPEED, PAUSE, STOP,
-                                     TURN, Command, clamp)
+from rbx1_nav.motion.command import DRIVE, MAX_ANGULAR_SPEED, PAUSE, STOP, TURN, Command, clamp
 from rbx1_nav.motion.precise import PreciseMode
 from rbx1_nav.transform_utils import Pose2D, normalize_angle
 
-__all__ = ['Step', 'Pause', 'Drive', 'Turn', 'TimedDrive', 'TimedTurn',
-           'DRIVE_AXIS', 'TURN_AXIS']
+__all__ = ['Step', 'Pause', 'Drive', 'Turn', 'TimedDrive', 'TimedTurn', 'DRIVE_AXIS', 'TURN_AXIS']
 
 
 class Step(object):
-    """One primitive of a course. :meth:`begin` runs on the cycle the
-    previous step ended, :meth:`update` on later ones: the Command to send,
-    or None once over. ``progress``: what a closed-loop step last measured."""
+    """One primitive of a course: :meth:`begin` runs on the cycle the previous step ended,
+    :meth:`update` on later ones (the Command to send, None once over); ``progress``: what a
+    closed-loop step last measured."""
 
     kind = None
     progress = None
@@ -66,24 +63,19 @@ class _Axis(object):
 
 
 DRIVE_AXIS = _Axis(
-    DRIVE, 'drove',
-    command=lambda speed: Command(speed, 0.0),
+    DRIVE, 'drove', command=lambda speed: Command(speed, 0.0),
     size=lambda metres: '%.3f m' % metres,
     ideal_end=lambda pose, goal: Pose2D(pose.x + goal * math.cos(pose.yaw),
-                                        pose.y + goal * math.sin(pose.yaw),
-                                        pose.yaw))
+                                        pose.y + goal * math.sin(pose.yaw), pose.yaw))
 
 TURN_AXIS = _Axis(
-    TURN, 'turned',
-    command=lambda speed: Command(0.0, speed),
+    TURN, 'turned', command=lambda speed: Command(0.0, speed),
     size=lambda radians: '%.1f deg' % math.degrees(radians),
-    ideal_end=lambda pose, goal: Pose2D(pose.x, pose.y,
-                                        normalize_angle(pose.yaw + goal)))
+    ideal_end=lambda pose, goal: Pose2D(pose.x, pose.y, normalize_angle(pose.yaw + goal)))
 
 
 class _Move(Step):
-    """A drive or turn: a goal along ``axis`` (m or rad, negative: backwards
-    or clockwise) and a speed."""
+    """A drive or turn: a goal along ``axis`` (m or rad; negative: back, clockwise), a speed."""
 
     axis = None
 
@@ -100,10 +92,9 @@ class _Move(Step):
 
 
 class _OnOdometry(_Move):
-    """Closed loop on odometry. Subclasses define ``measure`` (progress),
-    ``remaining`` (of the goal after it, negative past it), ``advance``
-    (progress between two poses) and ``moving`` (the command at a signed
-    speed along the goal)."""
+    """Closed loop on odometry. Subclasses define ``measure`` (progress), ``remaining`` (of the
+    goal after it, negative past it), ``advance`` (progress between two poses) and ``moving``
+    (the command at a signed speed along the goal)."""
 
     def __init__(self, goal, speed, tolerance, approach, label=''):
         _Move.__init__(self, goal, speed, label)
@@ -127,8 +118,7 @@ class _OnOdometry(_Move):
             note = ' after %d correction%s' % (corrections, 's' * (corrections > 1))
         if missed is not None:
             note += ', still %s off' % self.axis.size(missed)
-        self._event(course, '%s %s' % (self.axis.verb, self.axis.size(self.progress)),
-                    now, note)
+        self._event(course, '%s %s' % (self.axis.verb, self.axis.size(self.progress)), now, note)
         return None
 
 
@@ -197,9 +187,8 @@ class Turn(_OnOdometry):
 
 
 class _Timed(_Move):
-    """Open loop: the speed for |goal| / speed s from the first command; the
-    last cycle commands the fraction the time left (under one ``period``)
-    calls for, so the amount is exact whatever the ticks' phase."""
+    """Open loop: the speed for |goal| / speed s from the first command, scaled on the last cycle
+    to the time left (under one ``period``), so the amount is exact whatever the ticks' phase."""
 
     def __init__(self, goal, speed, period, label=''):
         _Move.__init__(self, goal, speed, label)
@@ -219,18 +208,12 @@ class _Timed(_Move):
 
 
 class TimedDrive(_Timed):
-    """Drive ``distance`` at ``speed`` for distance / speed seconds."""
+    """Drive ``goal`` metres at ``speed`` for goal / speed seconds."""
 
     axis = DRIVE_AXIS
 
-    def __init__(self, distance, speed, period, label=''):
-        _Timed.__init__(self, distance, speed, period, label)
-
 
 class TimedTurn(_Timed):
-    """Turn ``angle`` at ``speed`` for angle / speed seconds."""
+    """Turn ``goal`` radians at ``speed`` for goal / speed seconds."""
 
     axis = TURN_AXIS
-
-    def __init__(self, angle, speed, period, label=''):
-        _Timed.__init__(self, angle, speed, period, label)

@@ -17,34 +17,28 @@ def stalls_text(stalls, odom_topic, heard):
 
 
 def summary_line(robot, course, final, odom_frame, tick_times, held, dropouts):
-    """The 'Course complete' line; ``robot``: a fleet's namespace and ': ',
-    else ''; ``final``: None without odometry; ``held``, ``dropouts``: the
-    texts of :func:`stalls_text` and Dropouts.summary()."""
+    """The 'Course complete' line; ``robot``: a fleet's namespace and ': ', else ''; ``final``:
+    None without odometry; ``held``, ``dropouts``: from :func:`stalls_text`, Dropouts.summary()."""
     if final is None:
-        return ('%sCourse complete in %.1f s (no odometry: final pose '
-                'unknown); stood still while commanded: %s; link '
-                'dropouts ridden out: %s' % (robot, course.elapsed, held,
-                                              dropouts))
+        return ('%sCourse complete in %.1f s (no odometry: final pose unknown); stood still '
+                'while commanded: %s; link dropouts ridden out: %s'
+                % (robot, course.elapsed, held, dropouts))
     start = course.start_pose
     mean, slowest = control_rates(tick_times)
     error, heading = pose_error(final, course.ideal_end(start))
     return (
-        '%sCourse complete in %.1f s: final pose relative to start in %s: '
-        'dx %+.1f mm, dy %+.1f mm, dyaw %+.2f deg; error from the ideal '
-        'end pose: position %.1f mm, heading %+.2f deg; control loop '
-        '%.1f Hz mean, %d Hz slowest second; stood still while commanded: '
-        '%s; link dropouts ridden out: %s' % (
+        '%sCourse complete in %.1f s: final pose relative to start in %s: dx %+.1f mm, '
+        'dy %+.1f mm, dyaw %+.2f deg; error from the ideal end pose: position %.1f mm, '
+        'heading %+.2f deg; control loop %.1f Hz mean, %d Hz slowest second; stood still '
+        'while commanded: %s; link dropouts ridden out: %s' % (
             robot, course.elapsed, odom_frame, 1000.0 * (final.x - start.x),
-            1000.0 * (final.y - start.y),
-            math.degrees(normalize_angle(final.yaw - start.yaw)),
-            1000.0 * error, math.degrees(heading),
-            mean, slowest, held, dropouts))
+            1000.0 * (final.y - start.y), math.degrees(normalize_angle(final.yaw - start.yaw)),
+            1000.0 * error, math.degrees(heading), mean, slowest, held, dropouts))
 
 
 def control_rates(times):
-    """(mean Hz, ticks in the slowest whole second) of control ticks at
-    ``times`` (s, ascending); (0.0, 0) for fewer than two. The slowest
-    second shows missed ticks even when the mean looks fine."""
+    """(mean Hz, ticks in the slowest whole second) of control ticks at ``times`` (s, ascending);
+    (0.0, 0) for fewer than two. The slowest second shows missed ticks a fine mean hides."""
     if len(times) < 2:
         return 0.0, 0
     span = times[-1] - times[0]
