@@ -1,7 +1,7 @@
-"""rbx1_nav.motion.dropouts: a stale transform is held, ridden out, or given up."""
+"""rbx1_nav.motion.loop.Dropouts: a stale transform is held, ridden out, or given up."""
 import pytest
 
-from rbx1_nav.motion.dropouts import FRESH, HOLD, LOST, Dropouts
+from rbx1_nav.motion.loop import FRESH, HOLD, LOST, Dropouts
 from rbx1_nav.motion.command import STOP
 from rbx1_nav.motion.course import Course
 from rbx1_nav.motion.steps import Drive

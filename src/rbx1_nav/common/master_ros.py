@@ -1,22 +1,20 @@
-"""Watch the ROS master from a thread of its own; re-register with a new one (why:
-common.master_watch). Each call is its own XML-RPC connection with a timeout, never rospy's,
-which has none: an unreachable master stalls the watch, never the node."""
+"""Watch the ROS master from a thread of its own (why: common.master_watch; re-registering
+with a new one: common.reregister_ros). Each call is its own XML-RPC connection with a
+timeout, never rospy's, which has none: an unreachable master stalls the watch, not the node."""
 import threading
 
 import rosgraph
 import rospy
 
-from rbx1_nav.common.master_watch import (BACK, GONE, RESTARTED, TIMEOUT,
-                                          MasterStates, proxy, reregistering_text)
-from rbx1_nav.common.rospy_private_ros import registrations
+from rbx1_nav.common.master_watch import BACK, GONE, RESTARTED, TIMEOUT, MasterStates, proxy
 
-__all__ = ['MasterWatch', 'proxy', 'topic_graph', 'node_answers', 'reregister', 'reregister_node']
+__all__ = ['MasterWatch', 'proxy', 'topic_graph', 'node_answers', 'master_identity', 'reply_value',
+           'problem_text']
 
 PERIOD = 1.0  # s between polls
-ATTEMPTS = 3  # re-registrations tried after a restart, PERIOD apart
 
 
-def _value(reply, what):
+def reply_value(reply, what):
     """The value of a ROS XML-RPC reply [code, message, value]."""
     code, message, value = reply
     if code != 1:
@@ -29,8 +27,8 @@ def topic_graph(timeout=TIMEOUT):
     caller_id = rospy.get_caller_id()
     try:
         with proxy(rosgraph.get_master_uri(), timeout) as master:
-            state = _value(master.getSystemState(caller_id), 'getSystemState')
-            types = _value(master.getTopicTypes(caller_id), 'getTopicTypes')
+            state = reply_value(master.getSystemState(caller_id), 'getSystemState')
+            types = reply_value(master.getTopicTypes(caller_id), 'getTopicTypes')
     except Exception:  # refused, timed out, reset, bad reply
         return None
     return dict(state[0]), dict(state[1]), dict(types)
@@ -41,9 +39,9 @@ def node_answers(name, timeout=TIMEOUT):
     caller_id = rospy.get_caller_id()
     try:
         with proxy(rosgraph.get_master_uri(), timeout) as master:
-            uri = _value(master.lookupNode(caller_id, name), 'lookupNode')
+            uri = reply_value(master.lookupNode(caller_id, name), 'lookupNode')
         with proxy(uri, timeout) as node:
-            _value(node.getPid(caller_id), 'getPid')
+            reply_value(node.getPid(caller_id), 'getPid')
     except Exception:  # not registered, refused, timed out, bad reply
         return False
     return True
@@ -52,12 +50,12 @@ def node_answers(name, timeout=TIMEOUT):
 def master_identity(uri, caller_id, timeout=TIMEOUT):
     """(pid, run_id or None) of the master at ``uri``; raises if it does not answer."""
     with proxy(uri, timeout) as master:
-        pid = _value(master.getPid(caller_id), 'getPid')
+        pid = reply_value(master.getPid(caller_id), 'getPid')
         code, _, run_id = master.getParam(caller_id, '/run_id')
     return pid, (run_id if code == 1 else None)
 
 
-def _problem(err):
+def problem_text(err):
     """A short reason a call to the master failed."""
     return getattr(err, 'strerror', None) or str(err) or type(err).__name__
 
@@ -92,7 +90,7 @@ class MasterWatch(object):
             identity, problem = master_identity(
                 self.uri, rospy.get_caller_id(), self.timeout), None
         except Exception as err:  # refused, timed out, reset, bad reply
-            identity, problem = None, _problem(err)
+            identity, problem = None, problem_text(err)
         event = self.states.observe(identity)
         callback = self.callbacks.get(event)
         if callback is not None:
@@ -109,49 +107,3 @@ class MasterWatch(object):
             self.poll()
             if self._stop.wait(self.period):
                 break
-
-
-def reregister(timeout=TIMEOUT):
-    """Register this process's topics and services (rospy's own, so their
-    connections go on) with the master, as rospy does at start-up; returns
-    how many of each, raises if the master does not answer."""
-    uri, node_uri = rosgraph.get_master_uri(), rospy.get_node_uri()
-    caller_id = rospy.get_caller_id()
-    # A registration stuck on an unreachable master holds rospy's lock.
-    registered = registrations(timeout)
-    if registered is None:
-        raise RuntimeError('rospy is busy registering a topic')
-    publications, subscriptions, services = registered
-    with proxy(uri, timeout) as master, proxy(node_uri, timeout) as node:
-        for topic, msg_type in publications:
-            _value(master.registerPublisher(caller_id, topic, msg_type, node_uri),
-                   'registerPublisher ' + topic)
-        for topic, msg_type in subscriptions:
-            publishers = _value(master.registerSubscriber(
-                caller_id, topic, msg_type, node_uri), 'registerSubscriber ' + topic)
-            if publishers:  # as the master would: our own slave API
-                node.publisherUpdate('/master', topic, publishers)
-        for service, service_uri in services:
-            _value(master.registerService(caller_id, service, service_uri,
-                                          node_uri), 'registerService ' + service)
-    return len(publications) + len(subscriptions), len(services)
-
-
-def reregister_node(name, uri, attempts=ATTEMPTS, pause=PERIOD):
-    """An ``on_restarted`` that re-registers, ``attempts`` times ``pause`` s apart."""
-    rospy.logwarn(reregistering_text(name, uri))
-    problem = None
-    for attempt in range(attempts):
-        try:
-            topics, services = reregister()
-        except Exception as err:
-            problem = _problem(err)
-            if attempt + 1 < attempts:
-                rospy.rostime.wallsleep(pause)
-            continue
-        rospy.loginfo('%s: re-registered %d topics and %d services with the '
-                      'new master at %s', name, topics, services, uri)
-        return True
-    rospy.logwarn('%s: could not re-register with the master at %s (%s): new nodes cannot find '
-                  'this node\'s topics. Fix: restart this node', name, uri, problem)
-    return False

@@ -131,13 +131,10 @@ def registrations(timeout):
 
 
 def end_xmlrpc_loop_at_shutdown():
-    """At shutdown rospy closes its XML-RPC server's socket but never ends the
-    server's serve_forever() loop, which then spins a core at 100 % until the
-    process exits (ros/ros_comm#2238, unfixed in Noetic): over half a CPU
-    second in every node's exit. No public API reaches that server, so
-    XmlRpcNode.shutdown is wrapped to end the loop too (in a thread of its
-    own: the loop may be waiting on a reused descriptor for up to 0.5 s).
-    If rosgraph renames ``shutdown`` or ``server``, this raises at start-up."""
+    """rospy's shutdown closes its XML-RPC socket and leaves serve_forever() spinning a core
+    until the process exits (ros/ros_comm#2238, unfixed in Noetic); no public API reaches
+    that server, so XmlRpcNode.shutdown is wrapped to end the loop (in a thread: it may wait
+    on a reused descriptor up to 0.5 s). Raises at start-up if rosgraph renames them."""
     shutdown = rosgraph.xmlrpc.XmlRpcNode.shutdown
     if getattr(shutdown, 'ends_loop', False):
         return

@@ -14,7 +14,8 @@ import rospy
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry
 
-from rbx1_nav.common.master_ros import MasterWatch, reregister_node, topic_graph
+from rbx1_nav.common.master_ros import MasterWatch, topic_graph
+from rbx1_nav.common.reregister_ros import reregister_node
 from rbx1_nav.common.node_ros import start_node
 from rbx1_nav.common.ros_time import time_moved_back_text
 from rbx1_nav.estimation.input_check import RejectedInput

@@ -27,7 +27,8 @@ from tf2_msgs.msg import TFMessage
 
 from rbx1_nav.sim_time import member_ros as lockstep
 from rbx1_nav.sim_time.member import BACK, NO_TICK
-from rbx1_nav.common.master_ros import MasterWatch, reregister_node
+from rbx1_nav.common.master_ros import MasterWatch
+from rbx1_nav.common.reregister_ros import reregister_node
 from rbx1_nav.common.node_ros import start_node, until_shutdown
 from rbx1_nav.common.ros_time import time_moved_back_text
 from rbx1_nav.common.rospy_private_ros import connection_header, connections, publisher_name
