@@ -55,7 +55,7 @@ import yaml
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from fleet_scale import cpu_seconds, descendants, free_port  # noqa: E402
+from fleet_scale import cpu_seconds, descendants, free_port, ground_truth  # noqa: E402
 import course_cpu  # noqa: E402
 import population  # noqa: E402
 RESULTS = os.path.join(HERE, 'results')
@@ -150,14 +150,7 @@ class Graph(object):
 
     def truth(self, topic='ground_truth'):
         """(x, y, yaw) of the simulator's next ground_truth message."""
-        out = subprocess.run(['rostopic', 'echo', '-n', '1', topic + '/pose/pose'],
-                             env=self.env, stdout=subprocess.PIPE,
-                             universal_newlines=True, timeout=30).stdout
-        pose = yaml.safe_load(out.split('---')[0])
-        q = pose['orientation']
-        yaw = math.atan2(2.0 * (q['w'] * q['z'] + q['x'] * q['y']),
-                         1.0 - 2.0 * (q['y'] ** 2 + q['z'] ** 2))
-        return pose['position']['x'], pose['position']['y'], yaw
+        return ground_truth(self.env, topic)
 
     def close(self):
         for group in reversed(self.groups):

@@ -31,12 +31,11 @@ import threading
 import time
 import xmlrpc.client
 
-import yaml
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.realpath(HERE))
 sys.path.insert(0, HERE)
-from fleet_scale import cpu_seconds, descendants, free_port  # noqa: E402
+from fleet_scale import cpu_seconds, descendants, free_port, ground_truth  # noqa: E402
 
 BOOK = os.path.join(HERE, 'book', 'odom_out_and_back.py')
 WRAPPER = os.path.join(HERE, 'modules_at_exit.py')
@@ -139,14 +138,7 @@ class Robot(object):
 
     def truth(self):
         """(x, y, yaw) of the robot's next ground_truth message."""
-        out = subprocess.run(['rostopic', 'echo', '-n', '1', 'ground_truth/pose/pose'],
-                             env=self.env, stdout=subprocess.PIPE,
-                             universal_newlines=True, timeout=30).stdout
-        pose = yaml.safe_load(out.split('---')[0])
-        q = pose['orientation']
-        yaw = math.atan2(2.0 * (q['w'] * q['z'] + q['x'] * q['y']),
-                         1.0 - 2.0 * (q['y'] ** 2 + q['z'] ** 2))
-        return pose['position']['x'], pose['position']['y'], yaw
+        return ground_truth(self.env)
 
     def close(self):
         for proc in reversed(self.groups):

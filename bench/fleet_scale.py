@@ -41,6 +41,8 @@ import sys
 import threading
 import time
 
+import yaml
+
 MODES = ('fleet', 'separate')
 POSITION_LIMIT = 0.020  # m: the single robot's book-mode rostest limits
 HEADING_LIMIT = 1.5     # deg
@@ -62,14 +64,32 @@ def free_port():
         return s.getsockname()[1]
 
 
-def cpu_seconds(pid):
-    """User + system CPU seconds of a process, from /proc; None if gone."""
+def stat_cpu(path):
+    """User + system CPU seconds of a process or thread from its /proc stat
+    file ``path``; None if gone."""
     try:
-        with open('/proc/%d/stat' % pid) as f:
+        with open(path) as f:
             fields = f.read().rsplit(')', 1)[1].split()
     except OSError:
         return None
     return (int(fields[11]) + int(fields[12])) / os.sysconf('SC_CLK_TCK')
+
+
+def cpu_seconds(pid):
+    """User + system CPU seconds of a process, from /proc; None if gone."""
+    return stat_cpu('/proc/%d/stat' % pid)
+
+
+def ground_truth(env, topic='ground_truth'):
+    """(x, y, yaw) of the simulator's next message on ``topic``, read by
+    rostopic in ``env``."""
+    out = subprocess.run(['rostopic', 'echo', '-n', '1', topic + '/pose/pose'], env=env,
+                         stdout=subprocess.PIPE, universal_newlines=True, timeout=30).stdout
+    pose = yaml.safe_load(out.split('---')[0])
+    q = pose['orientation']
+    yaw = math.atan2(2.0 * (q['w'] * q['z'] + q['x'] * q['y']),
+                     1.0 - 2.0 * (q['y'] ** 2 + q['z'] ** 2))
+    return pose['position']['x'], pose['position']['y'], yaw
 
 
 def descendants(pid):

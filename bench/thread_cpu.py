@@ -18,17 +18,14 @@ import sys
 import threading
 import time
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from fleet_scale import stat_cpu  # noqa: E402
+
 PERIOD = 0.2
-TICK = os.sysconf('SC_CLK_TCK')
 
 
 def _cpu(tid):
-    try:
-        with open('/proc/self/task/%d/stat' % tid) as f:
-            fields = f.read().rsplit(')', 1)[1].split()
-    except OSError:
-        return None
-    return (int(fields[11]) + int(fields[12])) / TICK
+    return stat_cpu('/proc/self/task/%d/stat' % tid)
 
 
 def _name(thread):
