@@ -15,8 +15,7 @@ import pytest
 
 from rbx1_nav.sim_time.lockstep import Owner
 from rbx1_nav.sim_time.member import (ALIGN, BACK, HANDLE, NO_TICK, REPEAT, STALE,
-                                             Follower, Inbox, MessageLedger, Report,
-                                             Reminder, aligned)
+                                      Follower, Inbox, MessageLedger, Report, Reminder, aligned)
 
 MS = 1000000  # ns
 SIM = {'/sim'}  # a grant's members: the simulator, granted every step

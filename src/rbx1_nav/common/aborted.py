@@ -1,5 +1,5 @@
-"""The exception a motion node's runner raises when a course cannot go on: rospy-free, so the
-pieces rbx1_nav.motion.runner_ros composes can raise it without importing the runner."""
+"""The exception a course cannot go on with, robot stopped: raised by the motion runner's
+pieces and by simulated time's side of a course (sim_time), caught by the runner; rospy-free."""
 
 
 class CourseAborted(Exception):

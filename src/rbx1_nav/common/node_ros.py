@@ -18,9 +18,9 @@ from rbx1_nav.common.rospy_private_ros import (end_xmlrpc_loop_at_shutdown,
 
 
 def _shutdown_on_signal(signum, frame):
-    """Shut rospy down from another thread: rospy's handler runs it inside the
-    main thread's call, a hang in a call to the master (waiting for its lock)
-    and, in a publish, the hook's stop going out before the command."""
+    """Shut rospy down from another thread. rospy's own handler runs it inside whatever call
+    the main thread is in: a hang in a call to the master (its lock held), and, in a
+    publish, the shutdown hook's stop sent before the command being published."""
     threading.Thread(target=rospy.signal_shutdown, daemon=True,
                      args=('signal %d' % signum,)).start()
 
@@ -181,7 +181,7 @@ def _shut_down(reason):
 
 def exit_node(name, status):
     """Shut rospy down and exit with ``status`` (a node's last line). rospy unregisters without a
-    timeout, a hang with the master unreachable, yet a node gone unregistered stays on record
+    timeout, a hang with the master unreachable, yet a node that exits unregistered stays on record
     (refuse_misdirected_shutdowns): so wait while the master answers, up to SHUTDOWN_BACKSTOP."""
     started = time.monotonic()
     done = threading.Thread(target=_shut_down, daemon=True, args=('%s finished' % name,))

@@ -11,7 +11,7 @@ from rbx1_nav.transform_utils import strip_leading_slash
 
 __all__ = ['number', 'integer', 'flag', 'frame', 'text', 'raw', 'POSITIVE', 'Param', 'param',
            'read_all', 'describe', 'unknown', 'bounds', 'clear_text', 'check_all', 'unit_text',
-           'UNIT_NAMES', 'start_text', 'command_line', 'leftovers', 'typos']
+           'UNIT_NAMES', 'start_text', 'command_line', 'leftovers', 'typos', 'shown']
 
 
 def _as_float(name, value):
@@ -168,7 +168,7 @@ def check_all(specs, lookup, node_name):
     return values
 
 
-def _shown(value, spec):
+def shown(value, spec):
     """A value as a start-up line, --help and the docs show it. None reads
     as its check's ``none_text`` ('max' for a clock speed), else 'none'."""
     if value is None:
@@ -182,7 +182,7 @@ def _shown(value, spec):
 
 def describe(specs, values):
     """'name value unit, ...' for a start-up log line."""
-    return ', '.join(('%s %s %s' % (s.name, _shown(values[s.name], s), s.unit)).strip()
+    return ', '.join(('%s %s %s' % (s.name, shown(values[s.name], s), s.unit)).strip()
                      for s in specs)
 
 

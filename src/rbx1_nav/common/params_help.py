@@ -5,7 +5,7 @@ Loaded only for those: a node at work does not need it. No rospy here.
 """
 import re
 
-from rbx1_nav.common.params import _shown, bounds
+from rbx1_nav.common.params import shown, bounds
 
 __all__ = ['usage', 'markdown']
 
@@ -21,7 +21,7 @@ def usage(doc, specs):
              'Private parameters (rosrun: _name:=value; launch: <param>):']
     width = max([len(spec.name) for spec in specs] + [4])
     for spec in specs:
-        default = ('%s %s' % (_shown(spec.default, spec), spec.unit)).strip()
+        default = ('%s %s' % (shown(spec.default, spec), spec.unit)).strip()
         limits = bounds(spec)
         lines.append(('  ~%-*s  %-18s %s' % (width, spec.name, default, spec.doc
                                              + (' [%s]' % limits if limits else ''))
@@ -56,6 +56,6 @@ def markdown(title, doc, specs):
     for spec in specs:
         limits = bounds(spec)
         lines.append('| `~%s` | `%s` | %s | %s | %s |' % (
-            spec.name, _cell(_shown(spec.default, spec)), _cell(spec.unit),
+            spec.name, _cell(shown(spec.default, spec)), _cell(spec.unit),
             _cell(spec.doc), _cell(limits)))
     return '\n'.join(lines) + '\n'

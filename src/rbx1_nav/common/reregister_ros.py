@@ -26,15 +26,15 @@ def reregister(timeout=TIMEOUT):
     with proxy(uri, timeout) as master, proxy(node_uri, timeout) as node:
         for topic, msg_type in publications:
             reply_value(master.registerPublisher(caller_id, topic, msg_type, node_uri),
-                   'registerPublisher ' + topic)
+                        'registerPublisher ' + topic)
         for topic, msg_type in subscriptions:
             publishers = reply_value(master.registerSubscriber(
                 caller_id, topic, msg_type, node_uri), 'registerSubscriber ' + topic)
             if publishers:  # as the master would: our own slave API
                 node.publisherUpdate('/master', topic, publishers)
         for service, service_uri in services:
-            reply_value(master.registerService(caller_id, service, service_uri,
-                                          node_uri), 'registerService ' + service)
+            reply_value(master.registerService(caller_id, service, service_uri, node_uri),
+                        'registerService ' + service)
     return len(publications) + len(subscriptions), len(services)
 
 

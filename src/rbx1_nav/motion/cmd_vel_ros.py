@@ -26,7 +26,7 @@ class CmdVel(object):
         self.sub = None  # our own cmd_vel, heard
 
     def _connections(self):
-        """The publisher's connections but to our own subscriber."""
+        """The publisher's connections, except the one to our own subscriber."""
         return [c for c in connections(self.pub) if subscriber_name(c) != self.own]
 
     @staticmethod

@@ -11,7 +11,7 @@ from collections import namedtuple
 from rbx1_nav.common.aborted import CourseAborted
 from rbx1_nav.motion.settle import WAITING, delivered
 
-__all__ = ['Reading', 'Dropouts', 'Hold', 'StallCheck', 'Settling', 'FRESH', 'HOLD', 'LOST']
+__all__ = ['TfReading', 'Dropouts', 'Hold', 'StallCheck', 'Settling', 'FRESH', 'HOLD', 'LOST']
 
 FRESH, HOLD, LOST = 'fresh', 'hold', 'lost'
 
@@ -58,8 +58,7 @@ class Dropouts(object):
         return '%d time%s, %.1f s in all' % (self.count, 's' * (self.count > 1), self.seconds)
 
 
-
-class Reading(object):
+class TfReading(object):
     """The newest transform read: ``pose``, its ``stamp`` (None before the first), the tick
     ``fresh_at`` it came (or the first tick), and whether the last tick brought it (``fresh``)."""
 
@@ -93,7 +92,7 @@ class Hold(object):
 
     def held(self, now, reading):
         """True while the robot is to be held (commanded zero) at ``now``,
-        by ``reading`` (a :class:`Reading`); CourseAborted when lost."""
+        by ``reading`` (a :class:`TfReading`); CourseAborted when lost."""
         stamp = None if reading.stamp is None else reading.stamp.to_sec()
         tick = self.dropouts.tick(now.to_sec(), reading.fresh_at.to_sec(), stamp)
         if tick.state == LOST:

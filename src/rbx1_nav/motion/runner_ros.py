@@ -15,7 +15,7 @@ from rbx1_nav.common.node_ros import start_node
 from rbx1_nav.common.aborted import CourseAborted
 from rbx1_nav.motion.cmd_vel_ros import CmdVel
 from rbx1_nav.motion.precise import Breakaway
-from rbx1_nav.motion.loop import Hold, Reading, Settling
+from rbx1_nav.motion.loop import Hold, Settling, TfReading
 from rbx1_nav.motion.settle import GAVE_UP, SETTLE_PARAMS, Settle, moved_text
 from rbx1_nav.motion.summary import stalls_text, summary_line
 from rbx1_nav.motion.tf_follow_ros import TF_TOPIC, TfFollower
@@ -169,7 +169,7 @@ class MotionRunner(object):
         self.hold = Hold(self.name, 'tf %s -> %s' % (self.tf.odom_frame, self.tf.followed),
                          self.settings['tf_timeout'], self.settings['link_grace'],
                          self.stop, rospy.logwarn, rospy.loginfo)
-        robot = Reading(Pose2D(0.0, 0.0, 0.0) if blind else None)
+        robot = TfReading(Pose2D(0.0, 0.0, 0.0) if blind else None)
         settling = None
         self.tick_times = []
         start = None
@@ -184,8 +184,8 @@ class MotionRunner(object):
             robot.tick(now, None if blind else self.ticks.reading(self.tf, now))
             if settling is not None:
                 self.stop()
-                held = self.hold.held(now, robot)
-                if settling.done(held, robot, start, self.cmd_vel.unacknowledged()):
+                unacknowledged = self.cmd_vel.unacknowledged()
+                if settling.done(self.hold.held(now, robot), robot, start, unacknowledged):
                     break
             elif not blind and self.hold.held(now, robot):
                 self.publish(course.hold(t))

@@ -6,8 +6,8 @@ from rbx1_nav.transform_utils import normalize_angle
 
 
 def stalls_text(stalls, odom_topic, heard):
-    """How often the course's ``stalls`` stood still while commanded to
-    move; ``heard`` is False when nothing published on ``odom_topic``."""
+    """How often the robot stood still while commanded to move (the course's ``stalls``);
+    ``heard`` is False when nothing published on ``odom_topic``."""
     if not heard:
         return 'unknown (nothing on %s)' % odom_topic
     if stalls.count:

@@ -27,7 +27,8 @@ class Ticks(object):
             rate.sleep()
 
     def arrived(self, topic, msg, item):
-        """``msg`` came on ``topic``: True if ``item`` (what the course needs) waits for take()."""
+        """``msg`` came on ``topic``: True if the clock took ``item`` (what the course needs of
+        it: the course is not to keep it), False to use it now."""
         return False
 
     def take(self, topic, key):

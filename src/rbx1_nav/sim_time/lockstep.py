@@ -76,8 +76,8 @@ owner, started from further back, takes over members of an old one).
 Leaving: a report marked leaving, or the member's connection closing.
 Times are integer nanoseconds; no rospy here, so the rules are unit-tested
 without a master (test/unit/test_lockstep.py). A member's side of the rules
-(Follower, MessageLedger, Inbox) is rbx1_nav.sim_time.member: every
-node that keeps time takes part, so it is common ground; the owner is here.
+(Follower, MessageLedger, Inbox) is rbx1_nav.sim_time.member, which
+every node that keeps time uses; the owner is here.
 """
 from rbx1_nav.sim_time.member import NO_TICK
 

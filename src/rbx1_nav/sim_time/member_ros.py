@@ -14,8 +14,7 @@ import time
 import rospy
 
 from rbx1_nav.sim_time.member import (LOST_MESSAGES, REPEAT, RESEND, STALE, STALLED,
-                                             WAIT_WARNING, Follower, Inbox, MessageLedger,
-                                             Reminder)
+                                      WAIT_WARNING, Follower, Inbox, MessageLedger, Reminder)
 from rbx1_nav.common.publish_ros import (delivered, from_ns, keep_own_time, link, publish,
                                          synchronous_publisher, to_ns)
 from rbx1_nav.common.master_ros import node_answers, topic_graph
