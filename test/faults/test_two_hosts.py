@@ -511,6 +511,12 @@ def test_twenty_percent_loss_precise_courses_ride_it_out(hosts):
                               for t in r['on_way']), r['held'],
                       r['rides'], r['spell']) for r in results)))
     assert not moving, 'still moving after their courses ended: %s' % moving
+    # Riding out 20 % loss is the point: a run where every course gives up
+    # (robot stopped, exit 1) proves only that they stop. The bench never
+    # saw fewer than 6 of 10 end within 5 mm / 0.5 deg.
+    assert any(r['exit'] == 0 for r in results), (
+        'all %d courses gave up at 20 %% loss:\n%s' % (len(results), '\n'.join(
+            r['course'].text()[-600:] for r in results)))
     for r in results:
         if r['exit'] != 0:
             continue

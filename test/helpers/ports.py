@@ -6,8 +6,8 @@ import pytest
 
 
 def free_port(ports):
-    """The first port of ``ports`` nothing listens on; the test is skipped
-    when every one is taken. Each test file has a range of its own, and
+    """The first port of ``ports`` nothing listens on; the test fails, naming
+    them, when every one is taken (a skip would pass in CI unseen). Each test file has a range of its own, and
     each pytest-xdist worker takes every n-th port of it (n workers), so
     tests running side by side never race for one port: two tests of one
     file in two workers both found the first port free before either
@@ -22,4 +22,5 @@ def free_port(ports):
             except OSError:
                 continue
             return port
-    pytest.skip('no free port among %s' % list(mine))
+    pytest.fail('every port of %s is taken (a roscore left over? `pgrep -af rosmaster`); this '
+                'test needs one for its own master' % list(mine))
