@@ -35,16 +35,32 @@ def launch_status(graph, *args):
                      timeout=LAUNCH_LIMIT)
 
 
-def test_launch_status_exits_with_the_courses_status(graph):
+def course_logs(log_dir, node):
+    """Every log file of ``node`` under ``log_dir``, joined."""
+    text = []
+    for path in sorted(log_dir.rglob('*%s*.log' % node)):
+        text.append(path.read_text(errors='replace'))
+    return '\n'.join(text)
+
+
+def test_launch_status_exits_with_the_courses_status(graph, tmp_path):
     done = launch_status(graph, 'nav_square.launch', 'sim:=true', 'sim_speed:=max')
     assert done.returncode == 0, done.stdout[-4000:]
     assert 'Course complete' in done.stdout
     assert done.stdout.rstrip().endswith('launch_status: nav_square exited 0'), done.stdout[-2000:]
 
     # No robot: the course gives up after ~tf_wait (5 wall s) and exits 1;
-    # roslaunch alone would exit 0.
+    # roslaunch alone would exit 0. Real time, as a user with no robot has
+    # it: the launch above left /use_sim_time true (the course would give up
+    # for want of /clock instead).
+    graph.run(['rosparam', 'set', '/use_sim_time', 'false'])
     failed = launch_status(graph, 'odom_out_and_back.launch')
     assert failed.returncode == 1, failed.stdout[-4000:]
+    # The course's own reason, not any failure (a traceback exits 1 too),
+    # in its log (ROS_LOG_DIR is the test's own tmp_path).
+    logs = course_logs(tmp_path, 'odom_out_and_back')
+    assert 'no transform from odom to base_footprint or base_link' in logs, logs[-4000:]
+    assert 'Traceback' not in logs, logs[-4000:]
     assert failed.stdout.rstrip().endswith(
         'launch_status: odom_out_and_back exited 1; exiting 1'), failed.stdout[-2000:]
     plain = graph.run(['roslaunch', 'rbx1_nav', 'odom_out_and_back.launch'],
