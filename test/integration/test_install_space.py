@@ -6,6 +6,7 @@ the devel space too), the demo course completes and its launch ends
 cleanly, and a rostest passes.
 """
 import os
+import re
 import socket
 import subprocess
 
@@ -108,10 +109,20 @@ def test_demo_course_completes_from_the_install_space(install_setup):
     with socket.socket() as s:  # a free port for this launch's own master
         s.bind(('localhost', 0))
         port = s.getsockname()[1]
+    # Through launch_status.py: roslaunch exits 0 whatever the course did.
     proc = run_in(install_setup, 'export ROS_MASTER_URI=http://localhost:%d; '
-                  'roslaunch -p %d rbx1_nav odom_out_and_back_sim.launch '
-                  'sim_speed:=10' % (port, port))
-    assert 'Course complete' in proc.stdout, proc.stdout[-3000:]
+                  'rosrun rbx1_nav launch_status.py rbx1_nav odom_out_and_back_sim.launch '
+                  'sim_speed:=10' % port)
+    assert proc.returncode == 0, proc.stdout[-3000:]
+    assert proc.stdout.rstrip().endswith('launch_status: odom_out_and_back exited 0'), (
+        proc.stdout[-3000:])
+    # The ideal fake robot: its odometry is its ground truth, so the
+    # course's own error is the true one. Under lockstep the same on every
+    # run: 16.7 mm, -1.90 deg (the book's mode: its turns stop at a tick).
+    found = re.search(r'error from the ideal end pose: position ([\d.]+) mm, heading '
+                      r'([-+\d.]+) deg', proc.stdout)
+    assert found, proc.stdout[-3000:]
+    assert float(found.group(1)) < 20.0 and abs(float(found.group(2))) < 2.5, found.group(0)
     # The launch ends cleanly after the course (end_launch_on_success.py),
     # without roslaunch's red block for a required node's end.
     assert 'finished cleanly: ending the launch' in proc.stdout, proc.stdout[-3000:]
