@@ -272,14 +272,21 @@ class CourseGuardsTest(unittest.TestCase):
 
         # Left on the master by an earlier run, not on this command line:
         # a warning, and the course runs (a short one).
+        before = watch.pose()
         leftover = CourseProcess(name='leftover', leftovers={'goal_distnace': 0.2},
                                  params=dict(SHORT, goal_distance=0.1, goal_angle=0.3))
         status = leftover.finish()
-        print('RESULT typo left on the master: exit %d' % status)
+        self.assertTrue(wait_until(watch.still), 'robot still moving after the course')
+        drove = watch.moved_since(before)
+        print('RESULT typo left on the master: exit %d, drove %.4f m by ground truth'
+              % (status, drove))
         self.assertEqual(status, 0, leftover.output)
         self.assertIn('unknown parameter ~goal_distnace is ignored (did you mean '
                       '~goal_distance?)', leftover.output)
         self.assertIn('Course complete', leftover.output)
+        # It drove its own goal_distance (0.1 m), not the leftover's 0.2:
+        # within 1 cm by ground truth.
+        self.assertLess(abs(drove - 0.1), 0.01, leftover.output)
 
 
 if __name__ == '__main__':
