@@ -34,8 +34,9 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'helpers'))
 import link  # noqa: E402
 from ports import free_port  # noqa: E402
-from test_two_hosts import (LINK_GRACE, SHORT_COURSE, TF_TIMEOUT,  # noqa: E402
-                            Lines, position)
+from test_two_hosts import (LINK_GRACE, PRECISE, PRECISE_END_DEG, PRECISE_END_MM,  # noqa: E402
+                            SHORT_COURSE, TF_TIMEOUT, Lines, agrees, angle_deg, echoed_rows,
+                            planar, position, reported)
 
 master_ros = pytest.importorskip('rbx1_nav.common.master_ros',
                                  reason='source a ROS workspace')
@@ -231,16 +232,18 @@ def test_master_watch_reports_gone_back_and_restarted_and_never_waits_long():
     assert slowest < 2.0
 
 
-def start_course(graph):
+def start_course(graph, *extra):
     """The fake robot (real time), its ground truth, and a short course
-    under way; returns (robot, truth lines, course lines)."""
+    (``extra``: more of its parameters) under way; returns (robot, truth
+    lines, course lines)."""
     robot = graph.start(['rosrun', 'rbx1_nav', 'fake_turtlebot.py'])
     truth = graph.start(['rostopic', 'echo', '-p', '/ground_truth/pose/pose'])
     deadline = time.monotonic() + 30
     while position(truth) is None:
         assert time.monotonic() < deadline, 'no ground_truth:\n' + truth.text()
         time.sleep(0.05)
-    course = graph.start(['rosrun', 'rbx1_nav', 'odom_out_and_back.py'] + SHORT_COURSE)
+    course = graph.start(['rosrun', 'rbx1_nav', 'odom_out_and_back.py'] + SHORT_COURSE
+                         + list(extra))
     deadline = time.monotonic() + 30
     while math.hypot(*position(truth)) < 0.15:
         assert time.monotonic() < deadline, 'the robot never moved:\n' + course.text()
@@ -253,18 +256,33 @@ def start_course(graph):
                     reason='no roscore: source a ROS workspace')
 def test_master_killed_mid_course_the_course_finishes_and_says_so(graph):
     core, _ = graph.start_master()
-    _, _, course = start_course(graph)
+    _, truth, course = start_course(graph, *PRECISE)
     link.kill_tree(core.proc.pid)  # roscore, its master and rosout
     core.proc.wait()
     try:
         status = course.proc.wait(60.0)
     except subprocess.TimeoutExpired:
         pytest.fail('course still running 60 s after the master died:\n' + course.text())
+    time.sleep(0.5)  # the ground truth of the stopped robot
     warned = [line for _, line in course.lines if 'master' in line and 'unreachable' in line]
-    print('RESULT master killed (one host): exit %d; master warnings: %s' % (status, warned))
-    assert course.first('Course complete'), course.text()
+    done = course.first('Course complete')
+    said = done and reported(done[1])
+    rows = echoed_rows(truth)
+    start, end = planar(rows[0]), planar(rows[-1])
+    true = (1000.0 * (end[0] - start[0]), 1000.0 * (end[1] - start[1]),
+            angle_deg(math.degrees(end[2]), math.degrees(start[2])))
+    print('RESULT master killed (one host): exit %d; master warnings: %s; true end %.1f mm '
+          'and %+.3f deg from the start (limits %g mm, %g deg); the course said %s'
+          % (status, warned, math.hypot(*true[:2]), true[2], PRECISE_END_MM,
+             PRECISE_END_DEG, said and said[:3]))
+    assert done, course.text()
     assert status == 0, course.text()
     assert len(warned) == 1 and 'localhost:%d' % graph.port in warned[0], course.text()
+    # With the master gone the course kept its robot in view: the end it
+    # reports is the true one, and the true one is a precise course's.
+    assert said and agrees(said[:3], true), (true, course.text())
+    assert math.hypot(*true[:2]) < PRECISE_END_MM, course.text()
+    assert abs(true[2]) < PRECISE_END_DEG, course.text()
 
 
 def listen_when_free(port, limit=5.0):
