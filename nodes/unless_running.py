@@ -18,13 +18,9 @@ import signal
 import sys
 
 # Ctrl-C (or the launch ending) before the node starts: end quietly.
-signal.signal(signal.SIGINT, signal.SIG_DFL)
+signal.signal(signal.SIGINT, signal.SIG_DFL)  # Ctrl-C during the imports: gone, quietly
 
-from rbx1_nav.sim.already_up_ros import exec_unless_running  # noqa: E402
+from rbx1_nav.sim.already_up_ros import unless_running  # noqa: E402
 
 if __name__ == '__main__':
-    status = exec_unless_running(sys.argv[1:])
-    if status is None:
-        print(__doc__.strip())
-        status = 0 if sys.argv[1:2] in (['-h'], ['--help']) else 2
-    sys.exit(status)
+    sys.exit(unless_running(sys.argv[1:], __doc__))

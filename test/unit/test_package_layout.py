@@ -113,15 +113,57 @@ def test_imports_run_one_way():
                     os.path.relpath(path, ROOT), sub or 'top level', name)
 
 
+def _main_call(statement):
+    """The one call of ``if __name__ == '__main__':`` (a Call node), or None."""
+    test = statement.test if isinstance(statement, ast.If) else None
+    if not (isinstance(test, ast.Compare) and isinstance(test.left, ast.Name)
+            and test.left.id == '__name__' and len(statement.body) == 1
+            and not statement.orelse):
+        return None
+    only = statement.body[0]
+    return only.value if isinstance(only, ast.Expr) and isinstance(only.value, ast.Call) else None
+
+
+def _signal_reset(statement):
+    """True for a top-level ``signal.signal(...)`` call."""
+    call = statement.value if isinstance(statement, ast.Expr) else None
+    return (isinstance(call, ast.Call) and isinstance(call.func, ast.Attribute)
+            and isinstance(call.func.value, ast.Name) and call.func.value.id == 'signal'
+            and call.func.attr == 'signal')
+
+
 def test_nodes_hold_no_rospy_logic_of_their_own():
-    """A node file declares its parameters and calls one entry point: the
-    ROS plumbing lives in a *_ros.py module, the behaviour beside it."""
+    """A node file is its docstring, its imports (the package's, sys, signal),
+    its declarations (NAME, PARAMS and their constants) and one call of an
+    entry point: the ROS plumbing lives in a *_ros.py module, the behaviour
+    beside it."""
     for path in NODES:
+        name = os.path.relpath(path, ROOT)
         with open(path) as f:
-            text = f.read()
-        assert not re.search(r'^\s*(import|from)\s+(rospy|tf2_ros)\b', text, re.M), (
-            '%s imports rospy: move its ROS side into src/rbx1_nav/<subsystem>/'
-            '*_ros.py' % os.path.relpath(path, ROOT))
+            tree = ast.parse(f.read(), path)
+        first, rest = tree.body[0], tree.body[1:]
+        assert isinstance(first, ast.Expr) and isinstance(first.value, ast.Constant), (
+            '%s: no docstring' % name)
+        calls = 0
+        for statement in rest:
+            if isinstance(statement, (ast.Import, ast.ImportFrom)):
+                modules = ([alias.name for alias in statement.names]
+                           if isinstance(statement, ast.Import) else [statement.module])
+                for module in modules:
+                    assert module in ('sys', 'signal') or module.split('.')[0] == 'rbx1_nav', (
+                        '%s imports %s: a node imports the package (and sys); move its ROS '
+                        'side into src/rbx1_nav/<subsystem>/*_ros.py' % (name, module))
+            elif _signal_reset(statement):
+                pass  # unless_running.py: Ctrl-C during its imports ends it quietly
+            elif isinstance(statement, ast.Assign):
+                assert all(isinstance(t, (ast.Name, ast.Tuple)) for t in statement.targets), (
+                    '%s:%d: only names are declared' % (name, statement.lineno))
+            else:
+                assert _main_call(statement) is not None, (
+                    '%s:%d: a node holds declarations and one call under __main__, not %s'
+                    % (name, statement.lineno, type(statement).__name__))
+                calls += 1
+        assert calls == 1, '%s: %d calls under __main__' % (name, calls)
 
 
 def test_rostest_scripts_are_executable():

@@ -18,7 +18,7 @@ from rbx1_nav.common import launch_end
 from rbx1_nav.common.master_watch import proxy
 from rbx1_nav.sim.already_up import refusal_text, resolved_name, skip_text
 
-__all__ = ['running_pid', 'refuse_if_running', 'exec_unless_running']
+__all__ = ['running_pid', 'refuse_if_running', 'exec_unless_running', 'unless_running']
 
 CALLER = '/rbx1_nav_already_up'
 
@@ -107,3 +107,13 @@ def exec_unless_running(argv, environ=None):
         print('[WARN] %s' % skip_text(name, pid), flush=True)
         return 0
     os.execvp(argv[0], argv)
+
+
+def unless_running(argv, doc):
+    """nodes/unless_running.py's main(): :func:`exec_unless_running`, or its
+    usage (``doc``) on a usage error; the exit status (0 for --help, else 2)."""
+    status = exec_unless_running(argv)
+    if status is None:
+        print(doc.strip())
+        status = 0 if argv[:1] in (['-h'], ['--help']) else 2
+    return status
