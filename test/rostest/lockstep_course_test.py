@@ -10,7 +10,8 @@ when no message is late. The true end pose must match it within
 ~match_position (m) and ~match_heading (deg), whatever the clock's speed
 (the .test files run it at 1x and at max with burners) and the load, and
 end within ~position_tolerance (m) and ~heading_tolerance (deg) of the
-start, the robot stopped.
+start, the robot stopped; each of ~expect_in_output (strings) must be in
+the course's log.
 """
 import math
 import os
@@ -69,6 +70,8 @@ class LockstepCourseTest(unittest.TestCase):
             course = CourseProcess(params=params)
             try:
                 check_completed_course(self, watch, course, start)
+                for text in rospy.get_param('~expect_in_output', []):
+                    self.assertIn(text, course.output)
             finally:
                 course.cleanup()
         finally:

@@ -3,9 +3,10 @@
 end pose.
 
 Used by courses.test (the course nodes on the ideal robot) and
-out_and_back_base_link.test (a robot with no base_footprint). (The
-odometry course in the book's mode on the ideal robot is checked by
-lockstep_course_test.py, in lockstep_1x.test and lockstep_max_loaded.test.)
+turtlebot2_remap.test. (The odometry course in the book's mode on the
+ideal robot is checked against the pure model by lockstep_course_test.py,
+in lockstep_1x.test, lockstep_max_loaded.test and
+out_and_back_base_link.test.)
 
 ~courses is a list, one test case per entry, run in its order, each from
 where the previous one left the robot (a course that fails leaves the
