@@ -35,8 +35,8 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..'
 import link  # noqa: E402
 from ports import free_port  # noqa: E402
 from test_two_hosts import (LINK_GRACE, PRECISE, PRECISE_END_DEG, PRECISE_END_MM,  # noqa: E402
-                            SHORT_COURSE, TF_TIMEOUT, Lines, agrees, angle_deg, echoed_rows,
-                            planar, position, reported)
+                            SHORT_COURSE, TF_TIMEOUT, Lines, assert_precise_end, position,
+                            reported, true_move)
 
 master_ros = pytest.importorskip('rbx1_nav.common.master_ros',
                                  reason='source a ROS workspace')
@@ -267,10 +267,7 @@ def test_master_killed_mid_course_the_course_finishes_and_says_so(graph):
     warned = [line for _, line in course.lines if 'master' in line and 'unreachable' in line]
     done = course.first('Course complete')
     said = done and reported(done[1])
-    rows = echoed_rows(truth)
-    start, end = planar(rows[0]), planar(rows[-1])
-    true = (1000.0 * (end[0] - start[0]), 1000.0 * (end[1] - start[1]),
-            angle_deg(math.degrees(end[2]), math.degrees(start[2])))
+    true = true_move(truth)
     print('RESULT master killed (one host): exit %d; master warnings: %s; true end %.1f mm '
           'and %+.3f deg from the start (limits %g mm, %g deg); the course said %s'
           % (status, warned, math.hypot(*true[:2]), true[2], PRECISE_END_MM,
@@ -278,11 +275,8 @@ def test_master_killed_mid_course_the_course_finishes_and_says_so(graph):
     assert done, course.text()
     assert status == 0, course.text()
     assert len(warned) == 1 and 'localhost:%d' % graph.port in warned[0], course.text()
-    # With the master gone the course kept its robot in view: the end it
-    # reports is the true one, and the true one is a precise course's.
-    assert said and agrees(said[:3], true), (true, course.text())
-    assert math.hypot(*true[:2]) < PRECISE_END_MM, course.text()
-    assert abs(true[2]) < PRECISE_END_DEG, course.text()
+    # With the master gone the course kept its robot in view.
+    assert_precise_end(said, true, course.text())
 
 
 def listen_when_free(port, limit=5.0):

@@ -259,6 +259,23 @@ def test_link_cut_mid_leg_stops_the_robot_and_the_course_exits(hosts):
 PRECISE_END_MM, PRECISE_END_DEG = 3.0, 0.3
 
 
+def true_move(truth):
+    """(dx mm, dy mm, dyaw deg) of the ground truth ``truth`` (echoed
+    lines) from its first row to its last."""
+    rows = echoed_rows(truth)
+    start, end = planar(rows[0]), planar(rows[-1])
+    return (1000.0 * (end[0] - start[0]), 1000.0 * (end[1] - start[1]),
+            angle_deg(math.degrees(end[2]), math.degrees(start[2])))
+
+
+def assert_precise_end(said, true, text):
+    """The end a course reported (``said``, its summary's figures) is the
+    true one (``true``, :func:`true_move`), and that is a precise course's."""
+    assert said and agrees(said[:3], true), (true, text)
+    assert math.hypot(*true[:2]) < PRECISE_END_MM, text
+    assert abs(true[2]) < PRECISE_END_DEG, text
+
+
 def test_master_killed_mid_course_the_course_finishes_and_says_so(hosts):
     truth, _ = start_robot(hosts)
     proc, course = start_course(hosts, *PRECISE)
@@ -274,10 +291,7 @@ def test_master_killed_mid_course_the_course_finishes_and_says_so(hosts):
     done = course.first('Course complete')
     said = done and reported(done[1])
     warned = [line for _, line in course.lines if 'master' in line and 'unreachable' in line]
-    rows = echoed_rows(truth)
-    start, end = planar(rows[0]), planar(rows[-1])
-    true = (1000.0 * (end[0] - start[0]), 1000.0 * (end[1] - start[1]),
-            angle_deg(math.degrees(end[2]), math.degrees(start[2])))
+    true = true_move(truth)
     print('RESULT master killed: course %s %.1f s after the kill, exit %d %.2f s after '
           'its last line; master warnings: %s; true end %.1f mm (dx %+.2f, dy %+.2f) '
           'and %+.3f deg from the start (limits %g mm, %g deg); the course said '
@@ -290,11 +304,8 @@ def test_master_killed_mid_course_the_course_finishes_and_says_so(hosts):
     assert done, course.text()
     assert status == 0, course.text()
     assert len(warned) == 1 and link.ADDRESSES['robot'] in warned[0], course.text()
-    # The course kept its robot in view with the master gone: the end pose it
-    # reports is the true one, and the true one is a precise course's.
-    assert said and agrees(said[:3], true), (true, course.text())
-    assert math.hypot(*true[:2]) < PRECISE_END_MM, course.text()
-    assert abs(true[2]) < PRECISE_END_DEG, course.text()
+    # The course kept its robot in view with the master gone.
+    assert_precise_end(said, true, course.text())
 
 
 def test_precise_mode_over_a_200ms_link_ends_at_its_start_and_names_the_age(hosts):
