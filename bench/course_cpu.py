@@ -140,6 +140,15 @@ class Robot(object):
         """(x, y, yaw) of the robot's next ground_truth message."""
         return ground_truth(self.env)
 
+    def course_env(self, which):
+        """The environment a course runs in: the robot's master; for the
+        book's script, bench/book/ on PYTHONPATH too (its "import tf")."""
+        env = dict(self.env)
+        if which == 'book':
+            env['PYTHONPATH'] = os.pathsep.join(
+                [os.path.dirname(BOOK)] + [p for p in [env.get('PYTHONPATH')] if p])
+        return env
+
     def close(self):
         for proc in reversed(self.groups):
             try:
@@ -159,10 +168,7 @@ def course(which, script, wall_limit=120.0):
     robot = Robot()
     workdir = tempfile.mkdtemp(prefix='course_cpu_')
     modules = os.path.join(workdir, 'modules.json')
-    env = dict(robot.env)
-    if which == 'book':  # its "import tf"
-        env['PYTHONPATH'] = os.pathsep.join(
-            [os.path.dirname(BOOK)] + [p for p in [env.get('PYTHONPATH')] if p])
+    env = robot.course_env(which)
     try:
         with open(os.path.join(workdir, 'output'), 'w+') as output:
             before, started = robot.cpu(), time.monotonic()

@@ -108,10 +108,7 @@ def summary(stacks, top=25):
 def profiled(which, script, rate, out):
     """One course under py-spy; the raw file's path and the course's CPU s."""
     robot = course_cpu.Robot()
-    env = dict(robot.env)
-    if which == 'book':
-        env['PYTHONPATH'] = os.pathsep.join(
-            [os.path.dirname(course_cpu.BOOK)] + [p for p in [env.get('PYTHONPATH')] if p])
+    env = robot.course_env(which)
     raw = os.path.join(out, '%s_%d.txt' % (which, int(time.time() * 1000)))
     try:
         proc = subprocess.run(
@@ -126,10 +123,7 @@ def profiled(which, script, rate, out):
 def threads(which, script, out):
     """One course under bench/thread_cpu.py: {thread: CPU s}."""
     robot = course_cpu.Robot()
-    env = dict(robot.env)
-    if which == 'book':
-        env['PYTHONPATH'] = os.pathsep.join(
-            [os.path.dirname(course_cpu.BOOK)] + [p for p in [env.get('PYTHONPATH')] if p])
+    env = robot.course_env(which)
     path = os.path.join(out, '%s_threads_%d.json' % (which, int(time.time() * 1000)))
     try:
         subprocess.run([course_cpu.PYTHON, os.path.join(HERE, 'thread_cpu.py'), path, script],
