@@ -210,13 +210,9 @@ def run_robot(robot, model, umbmark_runs, watch, workdir, short=False):
                 for unit in ('mm', 'deg'):
                     row['after_%s_%s' % (mode, unit)] = row['scaled_%s_%s' % (mode, unit)]
     except (AssertionError, OSError, RuntimeError):
-        ended = fake.proc.poll()
-        if ended is not None and not fake.log.closed:  # not closed here: say so
-            with open(fake.log.name) as f:
-                tail = f.read()[-2000:]
-            print('robot %d: its simulator had ended (exit %d) before this failure; '
-                  'the end of its log (%s):\n%s' % (robot['id'], ended, fake.log.name, tail),
-                  flush=True)
+        if not fake.running() and not fake.log.closed:  # not closed here: say so
+            print('robot %d: its simulator had ended (exit %d) before this failure. %s'
+                  % (robot['id'], fake.proc.returncode, fake.tail()), flush=True)
         raise
     finally:
         fake.close()
@@ -264,9 +260,13 @@ def lane(job, out):
     from course_harness import RobotWatch, wait_until
     # A robot reads /use_sim_time and /lockstep once, as it starts: not
     # before the launch has set them (it would run on wall time, and its
-    # course refuse it).
-    if not wait_until(lambda: bench.rospy.has_param('/lockstep'), 60.0):
-        raise RuntimeError('sim_clock.launch set no /lockstep within 60 s')
+    # course refuse it). However long that takes, while the launch lives.
+    wait_until(lambda: bench.rospy.has_param('/lockstep') or clock.poll() is not None,
+               NODE_WALL_LIMIT)
+    if not bench.rospy.has_param('/lockstep'):
+        raise RuntimeError('sim_clock.launch set no /lockstep: it %s'
+                           % ('ended (exit %d)' % clock.returncode if clock.poll() is not None
+                              else 'hung for %.0f s' % NODE_WALL_LIMIT))
     watch = RobotWatch()
     workdir = tempfile.mkdtemp(prefix='population_')
     try:

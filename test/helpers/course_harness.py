@@ -28,7 +28,10 @@ from rbx1_nav.common.publish_ros import link
 from rbx1_nav.motion.command import pose_error
 from rbx1_nav.transform_utils import Pose2D, quat_to_angle
 
-WALL_LIMIT = 120.0  # s; a guard so a broken run fails instead of hanging
+#: Wall seconds after which a wait for a live process gives up: a guard so
+#: a hung run fails instead of hanging, never a verdict on a slow machine
+#: (a wait for a process that has died fails at once, naming it).
+WALL_LIMIT = 300.0
 STILL = 1e-4  # m/s and rad/s: a robot slower than this is at rest
 
 
@@ -72,16 +75,22 @@ class RobotWatch(object):
         with self.lock:
             self.commands.append((rospy.Time.now(), msg))
 
-    def wait_for_truth(self, wall_limit=30.0):
-        """Block until the simulator's first ground_truth arrives."""
-        steps = int(wall_limit / 0.02)
-        for _ in range(steps):
-            if self.truth is not None or rospy.is_shutdown():
-                break
-            rospy.rostime.wallsleep(0.02)
+    def wait_for_truth(self, wall_limit=WALL_LIMIT, simulator=None):
+        """Block until the simulator's first ground_truth arrives, however
+        long it takes to start; fail at once if ``simulator`` (a
+        :class:`FakeRobot`, if the test started it) has ended."""
+        start = time.monotonic()
+        alive = simulator.running if simulator else (lambda: True)
+        wait_until(lambda: self.truth is not None or rospy.is_shutdown() or not alive(),
+                   wall_limit)
         if self.truth is None:
-            raise AssertionError('no %s received: is the simulator up?'
-                                 % _join(self.ns, 'ground_truth'))
+            topic = _join(self.ns, 'ground_truth')
+            if not alive():
+                raise AssertionError('no %s received: the simulator ended (exit %s) '
+                                     'before it published. %s'
+                                     % (topic, simulator.proc.returncode, simulator.tail()))
+            raise AssertionError('no %s received in %.0f s (wall): is the simulator up?'
+                                 % (topic, time.monotonic() - start))
         return self.pose()
 
     def pose(self):
@@ -141,7 +150,7 @@ class RosoutWatch(object):
             return [msg for msg in self.records
                     if msg.name == node and text in msg.msg]
 
-    def stamp_of(self, node, text, wall_limit=10.0):
+    def stamp_of(self, node, text, wall_limit=WALL_LIMIT):
         """ROS time of that line, waiting for it to arrive; None if never."""
         found = []
         wait_until(lambda: found.append(self.find(node, text)) or found[-1],
@@ -228,16 +237,13 @@ class CourseProcess(object):
 
     def wait(self, wall_limit=WALL_LIMIT):
         """Wait for the node to exit; note the ROS time; return its status."""
-        for _ in range(int(wall_limit / 0.01)):
-            if self.proc.poll() is not None:
-                break
-            rospy.rostime.wallsleep(0.01)
-        if self.proc.poll() is None:
+        start = time.monotonic()
+        if not wait_until(lambda: self.proc.poll() is not None, wall_limit):
             self.proc.kill()
             self.proc.wait()
-            raise AssertionError('%s still running after %.0f s wall; killed.'
-                                 '\n%s' % (' '.join(self.args), wall_limit,
-                                           self.output))
+            raise AssertionError('%s still running after %.0f s wall (a hang guard); '
+                                 'killed.\n%s' % (' '.join(self.args),
+                                                   time.monotonic() - start, self.output))
         self.exit_time = rospy.Time.now()
         self.reader.join(5.0)
         return self.proc.returncode
@@ -273,11 +279,22 @@ class FakeRobot(object):
         self.proc = subprocess.Popen([node_path('fake_turtlebot.py')],
                                      stdout=self.log, stderr=subprocess.STDOUT)
 
+    def running(self):
+        return self.proc.poll() is None
+
+    def tail(self, lines=20):
+        """The end of its output, to say why it ended."""
+        self.log.flush()
+        with open(self.log.name) as f:
+            text = f.read().splitlines()[-lines:]
+        return 'The end of its log (%s):\n%s' % (self.log.name, '\n'.join(text))
+
     def close(self):
         self.proc.terminate()
         self.proc.wait()
         self.log.close()
-        rospy.delete_param('/fake_turtlebot')
+        if rospy.has_param('/fake_turtlebot'):
+            rospy.delete_param('/fake_turtlebot')
 
     @staticmethod
     def restart(robot, watch, settings):
@@ -291,7 +308,11 @@ class FakeRobot(object):
             robot.close()
         watch.forget_truth()
         robot = FakeRobot(settings)
-        watch.wait_for_truth()
+        try:
+            watch.wait_for_truth(simulator=robot)
+        except BaseException:
+            robot.close()  # no simulator outlives the test that started it
+            raise
         return robot
 
 
@@ -354,12 +375,14 @@ def wait_sim(seconds):
 
 
 def wait_until(predicate, wall_limit=WALL_LIMIT):
-    """Poll ``predicate`` until true; False if it never was."""
-    for _ in range(int(wall_limit / 0.01)):
-        if predicate():
-            return True
+    """Poll ``predicate`` until true; False if it never was within
+    ``wall_limit`` wall seconds."""
+    deadline = time.monotonic() + wall_limit
+    while not predicate():
+        if time.monotonic() > deadline:
+            return False
         rospy.rostime.wallsleep(0.01)
-    return False
+    return True
 
 
 def kill_node(name):
@@ -386,7 +409,7 @@ def wait_under_way(test, watch, start, course, also=lambda: True, distance=0.3):
 ROSTEST_LOG = os.environ.get('ROS_LOG_FILENAME')
 
 
-def launched_node_status(process, wall_limit=10.0):
+def launched_node_status(process, wall_limit=WALL_LIMIT):
     """Exit status and log of a node the .test file launched (rostest only).
 
     ``process`` is roslaunch's name for it without the trailing count

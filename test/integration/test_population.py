@@ -1,27 +1,31 @@
-"""The calibration procedure kept honest on a small population.
+"""The calibration procedure kept honest on one robot of the population.
 
-The first five physics robots that ``make bench BENCH_ARGS="--sections
-population"`` draws (seed 1), each through docs/calibration.md's procedure as the
+The first physics robot that ``make bench BENCH_ARGS="--sections
+population"`` draws (seed 1), through docs/calibration.md's procedure as the
 bench runs it (bench/population.py, on a master of its own, lockstep at
 full speed, ground truth as the tape measure): ``calibrate_linear.py``
 and ``calibrate_angular.py``, their factors set on the driver,
 ``umbmark.py`` (two runs each way here, five in the bench, to keep it
 short), its multipliers set on the driver, then the out-and-back in
-precise mode. What the bench's run of 100 showed (docs/performance.md,
-"The calibration procedure on a population of robots"; 99 went through
-the procedure, one failed a step) must hold for each of these:
+precise mode. The population itself, and its statistics, are the bench's
+(docs/performance.md, "The calibration procedure on a population of
+robots"). What its 100 robots showed (99 went through the procedure,
+one failed a step) must hold for this one:
 
 * each printed scale factor within FACTOR_TOLERANCE of the robot's own,
   measured on its MuJoCo model without ROS (population.model_factors:
   rolling on a loaded tyre and scrubbing in turns included): 0.050 %
-  (linear) and 0.063 % (angular) at worst in the bench, these five 0.028
-  %; the bound of the 36-robot run, 0.05 %, is kept;
+  (linear) and 0.063 % (angular) at worst in the bench, this robot 0.001
+  % and 0.003 %; the bound of the 36-robot run, 0.05 %, is kept;
 * UMBmark's Ed within ED_TOLERANCE of the true wheel ratio (0.071 % at
-  worst; these five 0.047 %);
+  worst; this robot 0.010 %);
 * after the procedure the precise course ends within PRECISE (mm, deg)
-  of its start by ground truth (8.1 mm and 0.94 deg at worst; these five
-  5.8 mm and 0.60 deg). Until UMBmark fitted its exact model the bench's
-  worst was 12.1 mm and 1.50 deg, and the bounds 12.5 mm and 1.5 deg.
+  of its start by ground truth (8.1 mm and 0.94 deg at worst; this robot
+  4.1 mm and 0.41 deg).
+
+The robot (mass 6.6 kg, carpet, deadband 0.18, wheels 1.3 % and 1.0 %
+large, wheel base 0.5 % short) is one the procedure has to work for: every
+parameter away from nominal.
 """
 import os
 import shutil
@@ -37,14 +41,14 @@ pytestmark = pytest.mark.skipif(
     not shutil.which('roscore') or 'ROS_PACKAGE_PATH' not in os.environ,
     reason='needs a sourced ROS workspace (make test sources one)')
 
-ROBOTS, SEED = 5, 1
+ROBOTS, SEED = 1, 1
 FACTOR_TOLERANCE = 0.0005  # 0.05 %
 ED_TOLERANCE = 0.00075  # 0.075 %
 PRECISE = (8.5, 1.0)  # mm, deg
 
 
-def test_five_physics_robots_calibrate_as_the_population_did():
-    rows = population.run_model(population.draw(ROBOTS, SEED), 'physics', lanes=2,
+def test_a_physics_robot_calibrates_as_the_population_did():
+    rows = population.run_model(population.draw(ROBOTS, SEED), 'physics', lanes=1,
                                 umbmark_runs=2, log=print, short=True)
     assert [row['id'] for row in rows] == list(range(1, ROBOTS + 1))
     for row in rows:
