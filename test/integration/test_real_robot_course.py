@@ -17,7 +17,6 @@ import shutil
 import signal
 import subprocess
 import sys
-import time
 
 import pytest
 
@@ -25,6 +24,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 HELPERS = os.path.join(HERE, '..', 'helpers')
 WRAPPER = os.path.join(HERE, '..', '..', 'bench', 'modules_at_exit.py')
 sys.path.insert(0, HELPERS)
+from master import HANG_GUARD, wait_for_master  # noqa: E402
 from ports import free_port  # noqa: E402
 
 pytestmark = [
@@ -38,23 +38,11 @@ pytestmark = [
 PORTS = range(11491, 11499)
 #: The modules of the package that may stand behind the book's script.
 LINES = 3000
-#: Wall seconds: a hang guard, never reached by a course that runs.
-HANG_GUARD = 300.0
 
 
 def _start(cmd, env, log):
     return subprocess.Popen(cmd, env=env, stdout=log, stderr=subprocess.STDOUT,
                             start_new_session=True)
-
-
-def _wait_master(env, roscore):
-    """Until the master answers, as long as roscore lives."""
-    started = time.monotonic()
-    while subprocess.run(['rosparam', 'get', '/run_id'], env=env,
-                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL).returncode:
-        assert roscore.poll() is None, 'roscore ended before its master answered'
-        assert time.monotonic() - started < HANG_GUARD, 'no master after %.0f s' % HANG_GUARD
-        time.sleep(0.2)
 
 
 def test_a_course_on_a_real_robot_loads_no_lockstep_module(tmp_path):
@@ -67,7 +55,7 @@ def test_a_course_on_a_real_robot_loads_no_lockstep_module(tmp_path):
     procs = []
     try:
         procs.append(_start(['roscore', '-p', str(port)], env, log))
-        _wait_master(env, procs[0])
+        wait_for_master(env['ROS_MASTER_URI'], procs[0])
         procs.append(_start(['rosrun', 'rbx1_nav', 'fake_turtlebot.py'], env, log))
         node = subprocess.run(['rospack', 'find', 'rbx1_nav'], env=env, check=True,
                               stdout=subprocess.PIPE, universal_newlines=True).stdout.strip()

@@ -21,6 +21,7 @@ import xmlrpc.client
 import pytest
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'helpers'))
+from master import HANG_GUARD, wait_for_master  # noqa: E402
 from ports import free_port  # noqa: E402
 
 pytestmark = pytest.mark.skipif(
@@ -29,10 +30,6 @@ pytestmark = pytest.mark.skipif(
 
 PORTS = range(11472, 11490)
 LINE = 'a fake robot is already running as /fake_turtlebot'
-#: Wall seconds for a launch to start or end: a liveness limit on a loaded
-#: machine, not a speed.
-START_LIMIT = 30.0
-END_LIMIT = 30.0
 
 
 class Graph(object):
@@ -43,10 +40,7 @@ class Graph(object):
         self.procs = []
         self.tmp = tmp_path
         roscore = self.start(['roscore', '-p', str(port)], 'roscore')
-        self.wait_for(lambda: self.run(['rosparam', 'get', '/run_id']).returncode == 0,
-                      'roscore')
-        # The master that answered must be this test's own.
-        assert roscore.poll() is None, self.output('roscore')
+        wait_for_master(self.env['ROS_MASTER_URI'], roscore, lambda: self.output('roscore'))
 
     def start(self, cmd, log):
         out = open(str(self.tmp / (log + '.log')), 'w')
@@ -64,10 +58,15 @@ class Graph(object):
                               stderr=subprocess.STDOUT,
                               universal_newlines=True, timeout=timeout)
 
-    def wait_for(self, ready, what, limit=START_LIMIT):
-        deadline = time.monotonic() + limit
+    def wait_for(self, ready, what, proc, log):
+        """Until ``ready()``, while ``proc`` (logging to ``log``) lives;
+        HANG_GUARD wall seconds alive is a hang."""
+        started = time.monotonic()
         while not ready():
-            assert time.monotonic() < deadline, 'no %s after %.0f s' % (what, limit)
+            assert proc.poll() is None, 'no %s: it ended (exit %s):\n%s' % (
+                what, proc.returncode, self.output(log))
+            assert time.monotonic() - started < HANG_GUARD, 'no %s after %.0f s alive' % (
+                what, HANG_GUARD)
             time.sleep(0.5)
 
     def nodes(self):
@@ -110,13 +109,13 @@ def graph(tmp_path):
 def test_a_second_robot_is_refused_and_the_first_goes_on(graph, second):
     first = graph.start(['roslaunch', 'rbx1_nav', 'fake_turtlebot.launch'], 'first')
     graph.wait_for(lambda: {'/fake_turtlebot', '/robot_state_publisher'} <= graph.nodes(),
-                   'first robot')
+                   'first robot', first, 'first')
     pids = {name: graph.node_pid(name)
             for name in ('/fake_turtlebot', '/robot_state_publisher')}
 
     again = graph.start(second, 'second')
     try:
-        again.wait(END_LIMIT)
+        again.wait(HANG_GUARD)
     except subprocess.TimeoutExpired:
         pytest.fail('the second launch did not end:\n' + graph.output('second'))
     out = graph.output('second')
@@ -132,14 +131,14 @@ def test_a_second_robot_is_refused_and_the_first_goes_on(graph, second):
     assert graph.run(['rosparam', 'get', '/use_sim_time']).stdout.strip() == 'false'
     # Unmoved by the second launch's course, and it still drives.
     assert abs(graph.odom_x()) < 1e-9
-    graph.start(['rostopic', 'pub', '-r', '20', '/cmd_vel', 'geometry_msgs/Twist',
-                 '{linear: {x: 0.2}}'], 'drive')
-    graph.wait_for(lambda: graph.odom_x() > 0.05, 'motion of the first robot')
+    drive = graph.start(['rostopic', 'pub', '-r', '20', '/cmd_vel', 'geometry_msgs/Twist',
+                         '{linear: {x: 0.2}}'], 'drive')
+    graph.wait_for(lambda: graph.odom_x() > 0.05, 'motion of the first robot', drive, 'drive')
 
 
 def test_a_shutdown_meant_for_another_node_is_refused(graph):
     robot = graph.start(['rosrun', 'rbx1_nav', 'fake_turtlebot.py'], 'robot')
-    graph.wait_for(lambda: '/fake_turtlebot' in graph.nodes(), 'the robot')
+    graph.wait_for(lambda: '/fake_turtlebot' in graph.nodes(), 'the robot', robot, 'robot')
     pid = graph.node_pid('/fake_turtlebot')
     master = xmlrpc.client.ServerProxy(graph.env['ROS_MASTER_URI'])
     uri = master.lookupNode('/test', '/fake_turtlebot')[2]
@@ -152,7 +151,8 @@ def test_a_shutdown_meant_for_another_node_is_refused(graph):
                              'http://localhost:9/')
     graph.wait_for(lambda: robot.poll() is not None or any(
         line in graph.output('robot') for line in ('refused, this node goes on',
-                                                   'shutdown request')), 'the request')
+                                                   'shutdown request')), 'the request',
+                   robot, 'robot')
     assert robot.poll() is None, graph.output('robot')
     assert 'refused, this node goes on' in graph.output('robot')
     assert graph.node_pid('/fake_turtlebot') == pid
@@ -162,7 +162,7 @@ def test_a_shutdown_meant_for_another_node_is_refused(graph):
     master.registerPublisher('/fake_turtlebot', '/stale', 'std_msgs/String',
                              'http://localhost:9/')
     try:
-        robot.wait(END_LIMIT)
+        robot.wait(HANG_GUARD)
     except subprocess.TimeoutExpired:
         pytest.fail('the robot did not end:\n' + graph.output('robot'))
     assert 'new node registered with same name' in graph.output('robot')

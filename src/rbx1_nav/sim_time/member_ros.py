@@ -87,6 +87,14 @@ def connected_publishers(topic, delivering=False):
             if not delivering or delivered(c)}
 
 
+def owners_alive():
+    """The nodes registered as publishing grants that answer (a killed one
+    stays registered)."""
+    graph = topic_graph()
+    publishers = graph[0].get(GRANT_TOPIC, ()) if graph else ()
+    return [name for name in sorted(publishers) if node_answers(name)]
+
+
 class JoinError(Exception):
     """A node could not join the lockstep; the message says why."""
 
@@ -217,14 +225,26 @@ class Member(object):
         return bool(self.pub.get_num_connections() and self.sub.get_num_connections())
 
     def join(self, wait):
-        """Join the owner's lockstep, waiting up to ``wait`` wall seconds
-        for it to be there; the first grant follows. Raises JoinError."""
-        deadline = time.monotonic() + wait
+        """Join the owner's lockstep, waiting for it up to ``wait`` wall
+        seconds, and after that as long as a node that grants steps is
+        registered and answers (a loaded machine can take longer than
+        ``wait`` to start it and connect); the first grant follows. Raises
+        JoinError."""
+        started = time.monotonic()
+        deadline = started + wait
         while not self.connected():  # a report sent before would be lost
-            if time.monotonic() > deadline or rospy.is_shutdown():
-                raise JoinError('nothing grants lockstep steps on %s after %.1f s: '
-                                'is sim_clock running (sim_clock.launch)?'
-                                % (GRANT_TOPIC, wait))
+            if rospy.is_shutdown():
+                raise JoinError('shutting down')
+            now = time.monotonic()
+            if now > deadline:
+                owners = owners_alive()
+                if not owners:
+                    raise JoinError('nothing grants lockstep steps on %s after %.1f s (is '
+                                    'sim_clock running? sim_clock.launch starts it)'
+                                    % (GRANT_TOPIC, wait))
+                rospy.loginfo('%s: %s is up but not yet connected after %.0f s; waiting '
+                              'while it runs', self.name, ', '.join(owners), now - started)
+                deadline = now + NO_OWNER_WARNING
             rospy.rostime.wallsleep(0.01)
         with self.cond:
             self.grant = None

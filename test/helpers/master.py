@@ -1,0 +1,22 @@
+"""Waiting for a test's own master (imported, not a node)."""
+import time
+
+import rosgraph
+
+#: Wall seconds: a hang guard, never a verdict. A master that is starting
+#: is waited for as long as its process lives, however loaded the machine.
+HANG_GUARD = 300.0
+
+
+def wait_for_master(uri, roscore, output=lambda: ''):
+    """Until the master at ``uri`` answers; fail at once, with ``output()``,
+    if ``roscore`` (its Popen) has ended, or after HANG_GUARD s alive.
+    Returns the wall seconds it took."""
+    started = time.monotonic()
+    while not rosgraph.is_master_online(uri):
+        assert roscore.poll() is None, 'roscore ended (exit %s) before its master answered:\n%s' % (
+            roscore.returncode, output())
+        assert time.monotonic() - started < HANG_GUARD, (
+            'roscore alive but no master at %s after %.0f s:\n%s' % (uri, HANG_GUARD, output()))
+        time.sleep(0.05)
+    return time.monotonic() - started
