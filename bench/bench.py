@@ -17,8 +17,10 @@ Sections (``--sections``, all but population by default):
 - speed: the default course at 1x, 10x and max, lockstep and free-running
   (free-running "max" is the speed lockstep reached); course wall time,
   speed-up, final error.
-  The lockstep 1x run also gives the CPU seconds per simulated second of
-  every node (its own table).
+  Then the CPU seconds per simulated second of every node, the default
+  course under lockstep at full speed, ``--speed-rounds`` times; with
+  ``--against WORKSPACE`` (another commit's, built by ``make build
+  WS=...``) that workspace's course after each of ours, side by side.
 - cpu: our out-and-back beside the book's own script (bench/book/), one
   default course each on a fresh master and ``rosrun rbx1_nav
   fake_turtlebot.py`` at 1x, free-running as on a real robot, ``--cpu-rounds``
@@ -100,8 +102,8 @@ def processes(root):
 class Graph(object):
     """A master, a launch file and the processes they start (one run)."""
 
-    def __init__(self, launch, args):
-        self.env = dict(os.environ, ROS_MASTER_URI='http://localhost:%d' % free_port())
+    def __init__(self, launch, args, env=None):
+        self.env = dict(env or os.environ, ROS_MASTER_URI='http://localhost:%d' % free_port())
         self.env.pop('ROS_NAMESPACE', None)
         self.env['PYTHONUNBUFFERED'] = '1'  # lines arrive (and are timed) as logged
         port = self.env['ROS_MASTER_URI'].rsplit(':', 1)[1]
@@ -166,8 +168,9 @@ class Graph(object):
 
 
 def course(setup='ideal', mode='default', speed='max', lockstep=True, seed=None,
-           physics=False):
-    """One out-and-back course; a result dict (errors on ground truth)."""
+           physics=False, env=None):
+    """One out-and-back course; a result dict (errors on ground truth).
+    ``env``: the environment of another workspace (:func:`sourced`)."""
     launch = 'fake_turtlebot_ekf.launch' if setup == 'pose_ekf' else 'fake_turtlebot.launch'
     if setup == 'pose_ekf' and speed == 'max':
         # pose_ekf is no lockstep member: at full speed it falls behind the
@@ -180,7 +183,7 @@ def course(setup='ideal', mode='default', speed='max', lockstep=True, seed=None,
         args.update(lockstep=lockstep, realistic=setup == 'realistic')
     if seed is not None and setup != 'ideal':
         args['seed'] = seed
-    graph = Graph(launch, args)
+    graph = Graph(launch, args, env)
     try:
         # roslaunch sets /use_sim_time just after its master is up: a course
         # started before that runs on the wall clock against the simulator's
@@ -330,10 +333,36 @@ def speed():
                        target=TARGETS['speed'] if lockstep else 'reported')
             if row['wall_s']:
                 row['speedup'] = row['sim_s'] / row['wall_s']
-            if lockstep and speed == '1':
-                row['cpu_per_sim_s'] = {n: c / result['sim_s']
-                                        for n, c in sorted(result['cpu'].items())}
             rows.append(row)
+    return rows
+
+
+def sourced(workspace):
+    """The environment ``source WORKSPACE/devel/setup.bash`` gives."""
+    out = subprocess.run(['bash', '-c', 'source "$0"/devel/setup.bash && env -0', workspace],
+                         stdout=subprocess.PIPE, check=True).stdout
+    return dict(line.split('=', 1) for line in out.decode().split('\0') if '=' in line)
+
+
+def cpu_per_sim_s(against=None, rounds=2):
+    """CPU seconds per simulated second of each node for the default course
+    under lockstep at full speed (from the course's first tick to its
+    summary line), ``rounds`` times; with ``against`` (another commit's
+    workspace) that workspace's course after each of ours, on the same
+    machine in the same sitting."""
+    sides = [('this commit', None)]
+    if against:
+        sides.append((os.path.basename(os.path.normpath(against)), sourced(against)))
+    rows = []
+    for k in range(rounds):
+        for name, env in sides:
+            result = course('ideal', 'default', 'max', True, env=env)
+            log('cpu per simulated second, round %d, %s: %s' % (k + 1, name, describe(result)))
+            if result['status'] != 0 or 'cpu' not in result:
+                raise RuntimeError('the course on %s failed: %s' % (name, result['output']))
+            per = {n: c / result['sim_s'] for n, c in result['cpu'].items()}
+            rows.append(dict(side=name, round=k + 1, sim_s=result['sim_s'],
+                             total=sum(per.values()), nodes=per))
     return rows
 
 
@@ -382,11 +411,26 @@ def markdown(results):
                 r['speed'] if r['speed'] == 'max' else r['speed'] + 'x',
                 fmt(r['wall_s']), fmt(r.get('speedup')), fmt(r['error_mm'], '%.2f'),
                 fmt(r['heading_deg'], '%+.3f'), r['target']))
-        cpu = next((r['cpu_per_sim_s'] for r in results['speed'] if 'cpu_per_sim_s' in r), None)
-        if cpu:
-            out += ['', '## CPU seconds per simulated second (lockstep, 1x)', '',
-                    '| node | CPU s / sim s |', '|---|---|']
-            out += ['| %s | %.3f |' % (n, c) for n, c in sorted(cpu.items(), key=lambda i: -i[1])]
+        out.append('')
+    if 'cpu_per_sim_s' in results:
+        rows = results['cpu_per_sim_s']
+        sides = list(dict.fromkeys(r['side'] for r in rows))
+        nodes = sorted({n for r in rows for n in r['nodes']},
+                       key=lambda n: -max(r['nodes'].get(n, 0.0) for r in rows))
+        out += ['## CPU seconds per simulated second (default course, lockstep at full '
+                'speed; median of %d rounds, alternating)' % max(r['round'] for r in rows), '',
+                '| node | %s |' % ' | '.join(sides), '|---|%s' % ('---|' * len(sides))]
+
+        def median(side, key):
+            return statistics.median(key(r) for r in rows if r['side'] == side)
+        for n in nodes:
+            out.append('| %s | %s |' % (n, ' | '.join(
+                '%.3f' % median(side, lambda r: r['nodes'].get(n, 0.0)) for side in sides)))
+        out.append('| **all** | %s |' % ' | '.join(
+            '**%.3f**' % median(side, lambda r: r['total']) for side in sides))
+        if len(sides) == 2:
+            out += ['', 'Ratio %s / %s: %.2f.' % (sides[0], sides[1], median(
+                sides[0], lambda r: r['total']) / median(sides[1], lambda r: r['total']))]
         out.append('')
     if 'cpu' in results:
         out += course_cpu.markdown(results['cpu'])
@@ -471,6 +515,11 @@ def main():
     parser.add_argument('--runs', type=int, default=10)
     parser.add_argument('--cpu-rounds', type=int, default=3,
                         help='cpu: rounds of (ours, book\'s), about 80 s each')
+    parser.add_argument('--against', metavar='WORKSPACE',
+                        help='speed: also the CPU per simulated second of the course in '
+                        'WORKSPACE (another commit, built with make build WS=...), side by side')
+    parser.add_argument('--speed-rounds', type=int, default=3,
+                        help='speed: rounds of the CPU per simulated second')
     parser.add_argument('--robots', type=int, nargs='+', default=[1, 10, 20, 40, 80])
     parser.add_argument('--out', default=RESULTS)
     parser.add_argument('--render', action='store_true',
@@ -497,6 +546,7 @@ def main():
         results['accuracy'] = accuracy(args.runs)
     if 'speed' in args.sections:
         results['speed'] = speed()
+        results['cpu_per_sim_s'] = cpu_per_sim_s(args.against, args.speed_rounds)
     if 'cpu' in args.sections:
         results['cpu'] = course_cpu.run(args.cpu_rounds)
     if 'scale' in args.sections:
