@@ -200,7 +200,7 @@ class CourseGuardsTest(unittest.TestCase):
                              ('/robot1/fake_turtlebot', '/fake_turtlebot')):
             self.assertTrue(wait_until(lambda: rosout.find(
                 robot, 'node %s also publishes the transform odom -> '
-                'base_footprint on /tf' % other), wall_limit=30.0),
+                'base_footprint on /tf' % other)),
                 '%s did not name %s' % (robot, other))
 
     # -- a jump no robot makes -----------------------------------------------------

@@ -29,7 +29,7 @@ class InterruptTest(unittest.TestCase):
         try:
             wait_under_way(self, watch, start, course)
             course.interrupt()
-            status = course.wait(wall_limit=30.0)
+            status = course.wait()
         finally:
             course.cleanup()
         wait_sim(settle)
