@@ -2,46 +2,80 @@
 """SIGKILL of the course node mid-leg: the simulator stops the robot itself.
 
 Run by out_and_back_killed.test. A killed node sends no stop; the fake
-robot's watchdog must stop the base cmd_timeout (plus at most one step)
-after the last command it received, so the robot travels at most
-~max_travel (m) after the kill, and then stands still.
+robot's watchdog must stop the base cmd_timeout (give or take one step)
+after the last command it received: measured on ground truth from the
+last cmd_vel's time, the robot travels between ~min_travel and
+~max_travel (m), and then stands still.
 """
 import os
 import signal
 import sys
+import threading
 import unittest
 
 import rospy
 import rostest
+from nav_msgs.msg import Odometry
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from course_harness import (CourseProcess, RobotWatch, wait_sim,  # noqa: E402
                             wait_under_way)
+from rbx1_nav.motion.command import pose_error  # noqa: E402
+from rbx1_nav.transform_utils import Pose2D, quat_to_angle  # noqa: E402
+
+
+class TruthLog(object):
+    """Every ground_truth of the robot: (stamp, Pose2D), in order."""
+
+    def __init__(self):
+        self.lock = threading.Lock()
+        self.poses = []
+        rospy.Subscriber('ground_truth', Odometry, self._on_truth)
+
+    def _on_truth(self, msg):
+        p = msg.pose.pose
+        with self.lock:
+            self.poses.append((msg.header.stamp, Pose2D(
+                p.position.x, p.position.y, quat_to_angle(p.orientation))))
+
+    def at(self, stamp):
+        """The first (stamp, pose) at or after ``stamp``."""
+        with self.lock:
+            return next(((t, pose) for t, pose in self.poses if t >= stamp), (None, None))
 
 
 class KilledTest(unittest.TestCase):
 
     def test_sigkill_leaves_the_simulator_to_stop_the_robot(self):
+        min_travel = float(rospy.get_param('~min_travel'))
         max_travel = float(rospy.get_param('~max_travel'))
         watch = RobotWatch()
+        truth = TruthLog()
         start = watch.wait_for_truth()
         course = CourseProcess()
         try:
             wait_under_way(self, watch, start, course)
-            at_kill = watch.pose()
             course.proc.send_signal(signal.SIGKILL)
             course.wait(wall_limit=10.0)
         finally:
             course.cleanup()
         wait_sim(1.0)  # cmd_timeout (0.5 s) and then some
-        travel = watch.moved_since(at_kill)
+        received, last = watch.last_command()
         speed = watch.true_speed()
-        # From the pose read before the kill: the simulator may step on
-        # meanwhile, as the wall clock has it.
-        print('RESULT killed: the robot travelled %.3f m (wall-timed) after SIGKILL (limit '
-              '%.3f m) and stands at speed %s' % (travel, max_travel, speed))
+        # From the true pose at the last command the robot received (the
+        # first ground_truth stamped at or after the test heard it, the
+        # same ROS time under lockstep), not from one read around the
+        # kill: the robot's own travel on its last command until its
+        # watchdog stopped it.
+        stamp, there = truth.at(received)
+        travel = pose_error(watch.pose(), there)[0]
+        print('RESULT killed: last cmd_vel (%.3f m/s) at %.3f s, truth from %.3f s; '
+              'the robot travelled %.4f m after it (limits %.3f to %.3f m) and stands at '
+              'speed %s' % (last.linear.x, received.to_sec(), stamp.to_sec(), travel,
+                            min_travel, max_travel, speed))
         self.assertEqual(speed, (0.0, 0.0), 'the robot is still moving')
-        self.assertLess(travel, max_travel)
+        self.assertGreater(travel, min_travel, 'the watchdog stopped the robot early')
+        self.assertLess(travel, max_travel, 'the watchdog stopped the robot late')
 
 
 if __name__ == '__main__':

@@ -5,8 +5,11 @@ a sensor that never comes (pose_ekf_beside_driver.test).
 The test starts each pose_ekf with rosrun and reads its output, so it sees
 every line from the first, each with the ROS time it was logged at
 (simulated seconds); delays are measured from pose_ekf's start-up line.
+After its error or warning each pose_ekf must go on publishing, and end
+with status 0 on Ctrl-C.
 """
 import re
+import signal
 import subprocess
 import threading
 import unittest
@@ -65,10 +68,43 @@ class EkfProcess(object):
                                     '\n'.join(l[2] for l in self.lines)))
         return found[:count]
 
+    def interrupt(self, wall_limit=30.0):
+        """Ctrl-C, as a user at the terminal; the exit status (None: it
+        still ran ``wall_limit`` wall seconds later, and was killed)."""
+        self.proc.send_signal(signal.SIGINT)
+        try:
+            return self.proc.wait(wall_limit)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            self.proc.wait()
+            return None
+
     def close(self):
         if self.proc.poll() is None:
             self.proc.terminate()
             self.proc.wait()
+
+
+class Combined(object):
+    """The stamps (ROS s) of one filter's odom_combined, as they arrive."""
+
+    def __init__(self, ns, ekf):
+        self.lock = threading.Lock()
+        self.stamps = []
+        rospy.Subscriber('/%s/%s/odom_combined' % (ns, ekf),
+                         PoseWithCovarianceStamped, self.on_combined)
+
+    def on_combined(self, msg):
+        with self.lock:
+            self.stamps.append(msg.header.stamp.to_sec())
+
+    def between(self, start, end):
+        with self.lock:
+            return [t for t in self.stamps if start < t <= end]
+
+    def last(self):
+        with self.lock:
+            return self.stamps[-1] if self.stamps else None
 
 
 class TfWatch(object):
@@ -108,6 +144,8 @@ class PoseEkfBesideDriverTest(unittest.TestCase):
         cls.driver, ekf = get('~driver'), get('~ekf')
         cls.wall = float(get('~timeout'))
         cls.tf = TfWatch(cls.est_ns, 'base_footprint', ekf)
+        cls.combined = {cls.dup_ns: Combined(cls.dup_ns, ekf),
+                        cls.est_ns: Combined(cls.est_ns, ekf)}
         cls.dup = EkfProcess(cls.dup_ns, ekf, get('~dup_args'))
         cls.est = EkfProcess(cls.est_ns, ekf, get('~estimator_args'))
 
@@ -172,6 +210,47 @@ class PoseEkfBesideDriverTest(unittest.TestCase):
         self.assertIn('covariance (x, y, yaw)', status)
         self.assertIn('tf off', status)
         self.assertEqual(len(self.est.find(text)), 1, 'warned more than once')
+
+    def test_warned_filters_go_on_and_exit_0_on_ctrl_c(self):
+        # unittest runs a class's tests in the order of their names: this
+        # one stops both filters, so its name sorts last.
+        # After its warning each filter publishes odom_combined at ~freq
+        # for the watch_time after it: the first within first_output s (the
+        # dup's error comes at start-up, before its first estimate), then
+        # no gap longer than two steps to the window's end. Ctrl-C then
+        # ends each with status 0.
+        watch = float(rospy.get_param('~watch_time'))
+        first_limit = float(rospy.get_param('~first_output'))
+        topic = rospy.get_param('~missing_topic')
+        (_, error, _), = self.dup.wait_for(CONFLICT, 1, 'ERROR', self.wall)
+        (_, warning, _), = self.est.wait_for('no message came on %s' % topic,
+                                             wall_limit=self.wall)
+        for ns, proc, since in ((self.dup_ns, self.dup, error),
+                                (self.est_ns, self.est, warning)):
+            combined = self.combined[ns]
+            freq = float(rospy.get_param(proc.name + '/freq', 30.0))  # its default
+            end = since + watch
+            for _ in range(int(self.wall / 0.05)):  # a second (ROS) past the end at most
+                if ((combined.last() or 0.0) >= end or rospy.get_time() > end + 1.0
+                        or rospy.is_shutdown()):
+                    break
+                rospy.rostime.wallsleep(0.05)
+            stamps = combined.between(since, end)
+            self.assertTrue(stamps, '%s: no odom_combined after its warning' % proc.name)
+            first = stamps[0] - since
+            gap = max(b - a for a, b in zip(stamps, stamps[1:] + [end]))
+            print('%s: %d odom_combined in the %.1f s after its warning at '
+                  '%.2f s (at %g Hz), the first %.3f s after it, longest gap '
+                  'then %.3f s' % (proc.name, len(stamps), watch, since, freq,
+                                   first, gap), flush=True)
+            self.assertLessEqual(first, first_limit, proc.name)
+            self.assertLessEqual(gap, 2.0 / freq, proc.name)
+            self.assertGreaterEqual(len(stamps), (watch - first) * freq - 1, proc.name)
+        for proc in (self.dup, self.est):
+            status = proc.interrupt()
+            print('%s: exit status %s on SIGINT' % (proc.name, status), flush=True)
+            self.assertEqual(status, 0, '%s exited %s on SIGINT; output:\n%s' % (
+                proc.name, status, '\n'.join(l[2] for l in proc.lines)))
 
 
 if __name__ == '__main__':

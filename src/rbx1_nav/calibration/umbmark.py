@@ -88,7 +88,7 @@ from rbx1_nav.motion.steps import Drive, Pause, Turn
 
 __all__ = ['relative', 'square_course', 'check_errors', 'analyse',
            'analyse_runs', 'Result', 'Scatter', 'FALSE_ALARM', 'critical',
-           'runs_needed', 'square_return',
+           'runs_needed', 'square_return', 'first_order',
            'corrections', 'report', 'plot', 'run_label', 'parse_position',
            'evaluate', 'results_record', 'save', 'load', 'compare_text',
            'rerun_text']
@@ -247,13 +247,9 @@ def _fit(ed, eb, cg_cw, cg_ccw, side, wheel_separation, steps=20):
     return float(p[0]), float(p[1])
 
 
-def analyse(cw, ccw, side, wheel_separation):
-    """Ed and Eb from the return errors of both directions: the paper's
-    arithmetic, then the exact model fitted (the module's docstring)."""
-    cw, ccw = np.asarray(cw, dtype=float), np.asarray(ccw, dtype=float)
-    cg_cw, cg_ccw = cw.mean(axis=0), ccw.mean(axis=0)
-    e_max = max(np.hypot(*cg_cw), np.hypot(*cg_ccw))
-    # The paper's x and y formulas, averaged (see the module's docstring).
+def first_order(cg_cw, cg_ccw, side, wheel_separation):
+    """(Ed, Eb) by the paper's first-order formulas from the two centres of
+    gravity, its x and y formulas averaged (the module's docstring)."""
     alpha = ((cg_cw[0] + cg_ccw[0]) + (cg_cw[1] - cg_ccw[1])) / (-8.0 * side)
     beta = ((cg_cw[0] - cg_ccw[0]) + (cg_cw[1] + cg_ccw[1])) / (-8.0 * side)
     if beta == 0.0:
@@ -262,7 +258,16 @@ def analyse(cw, ccw, side, wheel_separation):
         radius = (side / 2.0) / math.sin(beta / 2.0)
         half = wheel_separation / 2.0
         ed = (radius + half) / (radius - half)
-    eb = (math.pi / 2.0) / (math.pi / 2.0 - alpha)
+    return ed, (math.pi / 2.0) / (math.pi / 2.0 - alpha)
+
+
+def analyse(cw, ccw, side, wheel_separation):
+    """Ed and Eb from the return errors of both directions: the paper's
+    arithmetic, then the exact model fitted (the module's docstring)."""
+    cw, ccw = np.asarray(cw, dtype=float), np.asarray(ccw, dtype=float)
+    cg_cw, cg_ccw = cw.mean(axis=0), ccw.mean(axis=0)
+    e_max = max(np.hypot(*cg_cw), np.hypot(*cg_ccw))
+    ed, eb = first_order(cg_cw, cg_ccw, side, wheel_separation)
     ed, eb = _fit(ed, eb, cg_cw, cg_ccw, side, wheel_separation)
     # The turn error and the curve per side of the fitted robot.
     alpha = math.pi / 2.0 * (1.0 - 1.0 / eb)
@@ -470,10 +475,15 @@ def load(path):
 
 
 def compare_text(before, after):
-    """E_max,syst of an earlier Result and this one, and their ratio."""
+    """E_max,syst of an earlier Result and this one, and their ratio; an
+    E_max,syst under 0.001 mm (a simulator without systematic errors) is
+    told as such, as :func:`report` tells identical runs, not as a ratio to
+    rounding."""
+    if after.e_max < IDENTICAL:
+        return ('E_max,syst before %.1f mm, after zero to 0.001 mm (no '
+                'systematic error left)' % (1000 * before.e_max))
     return 'E_max,syst before %.1f mm, after %.1f mm (%.1fx)' % (
-        1000 * before.e_max, 1000 * after.e_max,
-        before.e_max / max(after.e_max, 1e-12))
+        1000 * before.e_max, 1000 * after.e_max, before.e_max / after.e_max)
 
 
 def rerun_text(runs, side, odometry):
