@@ -71,6 +71,20 @@ def test_rostest(test_file):
     run_rostest(test_file)
 
 
+#: rostest's time-limit is a hang guard, never a verdict: a test that ends
+#: in seconds idle may take many times that beside other work.
+HANG_GUARD = 300
+
+
+def test_every_time_limit_is_a_hang_guard():
+    for path in ALL_FILES:
+        text = _text(path)  # and the test's own files it includes
+        for name in re.findall(r'\$\(find rbx1_nav\)/test/([^"]+\.xml)"', text):
+            text += _text(os.path.join(TEST_DIR, name))
+        limits = [float(v) for v in re.findall(r'time-limit="([^"]+)"', text)]
+        assert limits and min(limits) >= HANG_GUARD, (path, limits)
+
+
 def test_every_rostest_that_starts_rviz_says_so():
     """A .test whose test script drives RViz (rviz_screen) carries RVIZ."""
     for path in ALL_FILES:
