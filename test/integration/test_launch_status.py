@@ -18,9 +18,7 @@ import test_second_robot  # noqa: E402
 Graph = test_second_robot.Graph
 pytestmark = test_second_robot.pytestmark
 
-#: Wall seconds for a launch with a course to end: a liveness limit on a
-#: loaded machine, not a speed.
-LAUNCH_LIMIT = 180
+HANG_GUARD = test_second_robot.HANG_GUARD
 
 
 @pytest.fixture
@@ -32,7 +30,7 @@ def graph(tmp_path):
 
 def launch_status(graph, *args):
     return graph.run(['rosrun', 'rbx1_nav', 'launch_status.py', 'rbx1_nav'] + list(args),
-                     timeout=LAUNCH_LIMIT)
+                     timeout=HANG_GUARD)
 
 
 def course_logs(log_dir, node):
@@ -64,7 +62,7 @@ def test_launch_status_exits_with_the_courses_status(graph, tmp_path):
     assert failed.stdout.rstrip().endswith(
         'launch_status: odom_out_and_back exited 1; exiting 1'), failed.stdout[-2000:]
     plain = graph.run(['roslaunch', 'rbx1_nav', 'odom_out_and_back.launch'],
-                      timeout=LAUNCH_LIMIT)
+                      timeout=HANG_GUARD)
     assert plain.returncode == 0 and 'REQUIRED process' in plain.stdout  # why it exists
 
 
@@ -76,13 +74,13 @@ def test_a_later_rosrun_runs_with_its_defaults(graph, tmp_path):
     names = graph.run(['rosparam', 'list']).stdout.split()
     assert not [n for n in names if n.startswith('/odom_out_and_back/')], names
 
-    graph.start(['roslaunch', 'rbx1_nav', 'fake_turtlebot.launch'], 'robot')
-    graph.wait_for(lambda: '/fake_turtlebot' in graph.nodes(), 'robot')
+    robot = graph.start(['roslaunch', 'rbx1_nav', 'fake_turtlebot.launch'], 'robot')
+    graph.wait_for(lambda: '/fake_turtlebot' in graph.nodes(), 'robot', robot, 'robot')
     course = graph.start(['rosrun', 'rbx1_nav', 'odom_out_and_back.py'], 'course')
-    graph.wait_for(lambda: 'leg 1' in graph.output('course')
-                   or course.poll() is not None, 'the course under way', limit=60)
+    graph.wait_for(lambda: 'leg 1' in graph.output('course'), 'the course under way',
+                   course, 'course')
     os.killpg(course.pid, signal.SIGINT)
-    course.wait(30)
+    course.wait(HANG_GUARD)
     out = graph.output('course')
     print(out)
     assert 'leg 1' in out, out
