@@ -1,22 +1,31 @@
 """RViz on a virtual screen, for the tests that look at it (imported, not a
 node): background processes that log to files, Xvfb on a display number
-it picks itself, and the 3D view of a screenshot with the arrow colours of
+it picks itself, the 3D view of a screenshot with the arrow colours of
 the package's views (sim.rviz: red /odom; nav_ekf.rviz: green /odom_ekf;
-both: blue ground truth).
+both: blue ground truth), screenshots polled until the picture shows, and
+where a top-down view draws the arrows of a stream of poses.
 
 Used by test/integration/test_rviz_views.py and
 test/rostest/book_lines_test.py.
 """
+import math
 import os
 import select
 import subprocess
+import time
+
+import numpy as np
 
 # Arrow colours of the configs, as RViz shades them on a dark background:
-# the pixel counts of each must pass MIN_PIXELS.
-RED = lambda r, g, b: r > 170 and g < 90 and b < 70             # noqa: E731
-GREEN = lambda r, g, b: g > 140 and r < 90 and b < 110           # noqa: E731
-BLUE = lambda r, g, b: b > 170 and r < 60 and 80 < g < 200       # noqa: E731
+# the pixel counts of each must pass MIN_PIXELS. Each takes r, g, b as
+# numbers or as numpy arrays (a mask).
+RED = lambda r, g, b: (r > 170) & (g < 90) & (b < 70)                 # noqa: E731
+GREEN = lambda r, g, b: (g > 140) & (r < 90) & (b < 110)              # noqa: E731
+BLUE = lambda r, g, b: (b > 170) & (r < 60) & (80 < g) & (g < 200)    # noqa: E731
 MIN_PIXELS = 150
+#: Wall seconds a picture may take to show: a hang guard, not a measure
+#: (RViz draws on the wall clock, slowly on a loaded machine).
+PICTURE_LIMIT = 240.0
 BACKGROUND = (48, 48, 48)  # the configs' 3D view background
 #: What RViz needs beside DISPLAY on a virtual screen. Software GL:
 #: RViz 1.14.19 with Mesa 22.3's llvmpipe corrupts its heap now and then
@@ -30,22 +39,87 @@ RVIZ_ENV = {'LIBGL_ALWAYS_SOFTWARE': '1', 'GALLIUM_DRIVER': 'softpipe', 'QT_X11_
 
 
 def view_of(shot):
-    """The 3D view of a screenshot: the box around its background pixels
-    (so the panels' blue and red text cannot pass for arrows)."""
-    width = shot.width
-    where = [i for i, p in enumerate(shot.getdata()) if p == BACKGROUND]
-    assert where, 'no 3D view (background %s) on the screen' % (BACKGROUND,)
-    xs = [i % width for i in where]
-    return shot.crop((min(xs), where[0] // width, max(xs) + 1,
-                      where[-1] // width + 1))
+    """The 3D view of a screenshot, as an (rows, columns, 3) int array (so
+    the panels' blue and red text cannot pass for arrows): the box of the
+    rows and columns in which a tenth of the pixels or more are the
+    background's. (Not the box around every background pixel: the panels'
+    dark text has some, and that box was nearly the whole window.)"""
+    pixels = np.asarray(shot.convert('RGB'), dtype=int)
+    background = (pixels == BACKGROUND).all(axis=2)
+    rows = np.nonzero(background.sum(axis=1) >= 0.1 * background.shape[1])[0]
+    columns = np.nonzero(background.sum(axis=0) >= 0.1 * background.shape[0])[0]
+    assert rows.size and columns.size, 'no 3D view (background %s) on the screen' % (
+        BACKGROUND,)
+    return pixels[rows[0]:rows[-1] + 1, columns[0]:columns[-1] + 1]
+
+
+def colour_mask(view, match):
+    """The pixels of ``view`` (:func:`view_of`) a colour predicate matches."""
+    return match(view[..., 0], view[..., 1], view[..., 2])
 
 
 def colour_counts(shot, colours):
     """{name: pixels of that colour in the 3D view of ``shot``} for
     ``colours`` ({name: predicate on r, g, b})."""
-    pixels = list(view_of(shot.convert('RGB')).getdata())
-    return {name: sum(1 for p in pixels if match(*p))
+    view = view_of(shot)
+    return {name: int(np.count_nonzero(colour_mask(view, match)))
             for name, match in colours.items()}
+
+
+def wait_for_picture(display, rviz, log, ready, what=lambda shot: '',
+                     limit=PICTURE_LIMIT, every=0.5):
+    """Screenshots of ``display`` until ``ready(shot)`` is true: (the shot,
+    wall seconds it took). Fails at once when RViz (the process ``rviz``,
+    logging to ``log()``) has exited, and after ``limit`` s, naming the
+    time waited and ``what(shot)`` of the last shot."""
+    from PIL import ImageGrab
+    began = time.monotonic()
+    while True:
+        assert rviz.poll() is None, 'RViz exited after %.1f s:\n%s' % (
+            time.monotonic() - began, log())
+        shot = ImageGrab.grab(xdisplay=display)
+        if ready(shot):
+            return shot, time.monotonic() - began
+        waited = time.monotonic() - began
+        assert waited < limit, 'the picture did not show in %.0f s: %s' % (
+            waited, what(shot))
+        time.sleep(every)
+
+
+def top_down_view(config):
+    """The 3D view of an RViz config (parsed YAML) whose view is
+    TopDownOrtho with angle 0: (pixels per metre, the fixed frame's x and y
+    at the view's centre)."""
+    view = config['Visualization Manager']['Views']['Current']
+    assert view['Class'] == 'rviz/TopDownOrtho' and view['Angle'] == 0, view
+    return float(view['Scale']), float(view['X']), float(view['Y'])
+
+
+def arrows_area(shape, poses, view, arrow, margin):
+    """The pixels of a top-down view (an array ``shape``: rows, columns)
+    where arrows at any of ``poses`` ((x, y, yaw) in the fixed frame) would
+    be drawn, and ``margin`` pixels around them: a boolean array.
+
+    ``view`` is :func:`top_down_view`'s; ``arrow`` the display's Shape
+    (Shaft Length, Shaft Radius, Head Length, Head Radius, metres): RViz
+    draws an arrow from the pose along its heading. An arrow RViz keeps
+    for one of the poses lies inside."""
+    from PIL import Image, ImageDraw, ImageFilter
+    scale, x0, y0 = view
+    rows, columns = shape
+    shaft, shaft_r = float(arrow['Shaft Length']), float(arrow['Shaft Radius'])
+    head, head_r = float(arrow['Head Length']), float(arrow['Head Radius'])
+    outline = [(0.0, shaft_r), (shaft, shaft_r), (shaft, head_r), (shaft + head, 0.0),
+               (shaft, -head_r), (shaft, -shaft_r), (0.0, -shaft_r)]
+    mask = Image.new('L', (columns, rows), 0)
+    draw = ImageDraw.Draw(mask)
+    for x, y, yaw in poses:
+        c, s = math.cos(yaw), math.sin(yaw)
+        draw.polygon([(columns / 2.0 + scale * (x + c * a - s * b - x0),
+                       rows / 2.0 - scale * (y + s * a + c * b - y0))
+                      for a, b in outline], fill=255)
+    mask = mask.filter(ImageFilter.MaxFilter(2 * margin + 1))
+    return np.asarray(mask) > 0
 
 
 def rviz_errors(log):

@@ -3,7 +3,9 @@
 
 Run on the robot host by test_two_hosts.py (argv: the robot namespaces),
 so the test sees, in wall time, when each robot moved and when it stood
-still, without a rostopic echo per robot.
+still, without a rostopic echo per robot. ``--topic NAME`` echoes another
+nav_msgs/Odometry topic of each robot instead (test_rviz_views.py: odom);
+with no namespace, the top-level topic, printed as robot ``/``.
 """
 import sys
 import threading
@@ -14,8 +16,12 @@ from nav_msgs.msg import Odometry
 from rbx1_nav.transform_utils import quat_to_angle
 
 
-def main(robots):
-    rospy.init_node('truth_echo')
+def main(args):
+    topic = 'ground_truth'
+    if args[:1] == ['--topic']:
+        topic, args = args[1], args[2:]
+    robots = args or ['']
+    rospy.init_node('truth_echo' if topic == 'ground_truth' else topic + '_echo')
     last = {}
     lock = threading.Lock()  # one whole line at a time from the callbacks
 
@@ -25,11 +31,11 @@ def main(robots):
         with lock:
             if last.get(robot) != row:
                 last[robot] = row
-                sys.stdout.write('%s %s\n' % (robot, row))
+                sys.stdout.write('%s %s\n' % (robot or '/', row))
                 sys.stdout.flush()
 
     for robot in robots:
-        rospy.Subscriber(robot + '/ground_truth', Odometry, on_truth, robot, queue_size=100)
+        rospy.Subscriber(robot + '/' + topic, Odometry, on_truth, robot, queue_size=100)
     rospy.spin()
 
 

@@ -4,11 +4,15 @@ launch_status.py exits with the course's status (roslaunch exits 0 even
 when a required course failed), and a course's launch leaves none of its
 parameters behind: a plain rosrun afterwards runs with its defaults (a
 launch with sim_speed:=5 record:=true once left start_delay 10 s and
-tf_wait 25 s, and the next rosrun waited 10 s before moving). The courses
-here run under lockstep simulated time (rbx1_nav.common.launch_end)."""
+tf_wait 25 s, and the next rosrun waited 10 s before moving), judged by
+the robot's ground truth: it moves at once and drives the default course.
+The launches' courses run under lockstep simulated time
+(rbx1_nav.common.launch_end); the later rosrun at real time."""
+import math
 import os
-import signal
+import subprocess
 import sys
+import time
 
 import pytest
 
@@ -66,23 +70,100 @@ def test_launch_status_exits_with_the_courses_status(graph, tmp_path):
     assert plain.returncode == 0 and 'REQUIRED process' in plain.stdout  # why it exists
 
 
+def truth_rows(text):
+    """(stamp s, x, y, yaw rad, v, w) of each whole row of a ``rostopic
+    echo -p`` of a nav_msgs/Odometry topic."""
+    lines = text.splitlines()
+    if not lines or not lines[0].startswith('%time'):
+        return []
+    col = {name: i for i, name in enumerate(lines[0].split(','))}
+    pose, twist = 'field.pose.pose.', 'field.twist.twist.'
+    names = ['field.header.stamp', pose + 'position.x', pose + 'position.y',
+             pose + 'orientation.z', pose + 'orientation.w', twist + 'linear.x',
+             twist + 'angular.z']
+    rows = []
+    for line in lines[1:]:
+        fields = line.split(',')
+        if len(fields) != len(col):  # the row being written
+            continue
+        stamp, x, y, qz, qw, v, w = (float(fields[col[name]]) for name in names)
+        rows.append((stamp * 1e-9, x, y, 2.0 * math.atan2(qz, qw), v, w))
+    return rows
+
+
+#: The book's out-and-back (rbx1_nav.motion.book.OUT_AND_BACK), each
+#: parameter at its default: 1 m out at 0.15 m/s, a turn of 180 deg at
+#: 0.5 rad/s, the same back and again.
+DEFAULT_DISTANCE, DEFAULT_SPEED, DEFAULT_TURN_SPEED = 1.0, 0.15, 0.5
+#: The true course on the ideal robot in real time, from its ground truth:
+#: the farthest point within 20 mm of 1 m (a 20 Hz tick drives 7.5 mm), the
+#: end within 50 mm and 5 deg of the start (each turn stops at the first
+#: tick within 1 deg of its goal, a tick turning up to 1.4 deg), the top
+#: speeds within 2 %.
+DISTANCE_TOLERANCE, END_TOLERANCE, END_HEADING_TOLERANCE = 0.020, 0.050, 5.0
+SPEED_TOLERANCE = 0.02
+
+
 def test_a_later_rosrun_runs_with_its_defaults(graph, tmp_path):
-    done = launch_status(graph, 'odom_out_and_back_sim.launch', 'sim_speed:=5',
+    # record:=true at sim_speed:=10 gives the course start_delay 20 s (2
+    # wall s for rosbag at 10x): left on the master, it would hold the
+    # next rosrun, at real time, 20 s before it moved.
+    done = launch_status(graph, 'odom_out_and_back_sim.launch', 'sim_speed:=10',
                          'record:=true', 'bag:=%s' % (tmp_path / 'course.bag'))
     assert done.returncode == 0, done.stdout[-4000:]
-    assert 'start_delay 10 s' in done.stdout  # the launch did set it
+    assert 'start_delay 20 s' in done.stdout  # the launch did set it
+    left_delay = 20.0
     names = graph.run(['rosparam', 'list']).stdout.split()
     assert not [n for n in names if n.startswith('/odom_out_and_back/')], names
 
+    # A plain rosrun at real time, judged by the robot's ground truth.
     robot = graph.start(['roslaunch', 'rbx1_nav', 'fake_turtlebot.launch'], 'robot')
     graph.wait_for(lambda: '/fake_turtlebot' in graph.nodes(), 'robot', robot, 'robot')
+    truth = graph.start(['rostopic', 'echo', '-p', '/ground_truth'], 'truth')
+    graph.wait_for(lambda: truth_rows(graph.output('truth')), 'ground truth', truth, 'truth')
+    began = time.time()  # ROS time is the wall clock here (no /use_sim_time)
     course = graph.start(['rosrun', 'rbx1_nav', 'odom_out_and_back.py'], 'course')
-    graph.wait_for(lambda: 'leg 1' in graph.output('course'), 'the course under way',
-                   course, 'course')
-    os.killpg(course.pid, signal.SIGINT)
-    course.wait(HANG_GUARD)
+    try:
+        status = course.wait(HANG_GUARD)
+    except subprocess.TimeoutExpired:
+        pytest.fail('the course still ran after %d s:\n%s' % (HANG_GUARD, graph.output('course')))
+    ended = time.time()
+    # The robot at rest after the course's last stop, half a second on.
+    graph.wait_for(lambda: truth_rows(graph.output('truth'))[-1][0] > ended + 0.5,
+                   'ground truth after the course', truth, 'truth')
     out = graph.output('course')
     print(out)
-    assert 'leg 1' in out, out
+    assert status == 0, out
+
+    rows = truth_rows(graph.output('truth'))
+    x0, y0, yaw0 = rows[0][1:4]
+    moving = [row for row in rows if math.hypot(row[1] - x0, row[2] - y0) > 1e-4
+              or abs(row[3] - yaw0) > 1e-4]
+    assert moving, 'the robot never moved:\n' + out
+    delay = moving[0][0] - began
+    farthest = max(math.hypot(row[1] - x0, row[2] - y0) for row in rows)
+    x, y, yaw = rows[-1][1:4]
+    end = math.hypot(x - x0, y - y0)
+    heading = math.degrees(math.atan2(math.sin(yaw - yaw0), math.cos(yaw - yaw0)))
+    top_speed = max(abs(row[4]) for row in rows)
+    top_turn = max(abs(row[5]) for row in rows)
+    print('RESULT rosrun after the launch, by ground truth: moved %.1f s after its '
+          'start (the left start_delay: %.0f s), farthest %.4f m (default %.1f), end '
+          '%.1f mm and %+.2f deg from the start, top speeds %.4f m/s and %.4f rad/s '
+          '(defaults %.2f, %.1f), speed at the end %.4f, %.4f'
+          % (delay, left_delay, farthest, DEFAULT_DISTANCE, 1000.0 * end, heading,
+             top_speed, top_turn, DEFAULT_SPEED, DEFAULT_TURN_SPEED, rows[-1][4], rows[-1][5]))
+    # No start_delay left: it moved sooner than the launch's 20 s allow.
+    assert delay < left_delay, out
+    # goal_distance, goal_angle and legs at their defaults: 1 m out, and
+    # back at the start facing as it began.
+    assert abs(farthest - DEFAULT_DISTANCE) < DISTANCE_TOLERANCE, out
+    assert end < END_TOLERANCE and abs(heading) < END_HEADING_TOLERANCE, out
+    # linear_speed and angular_speed at theirs.
+    assert abs(top_speed - DEFAULT_SPEED) < SPEED_TOLERANCE * DEFAULT_SPEED, out
+    assert abs(top_turn - DEFAULT_TURN_SPEED) < SPEED_TOLERANCE * DEFAULT_TURN_SPEED, out
+    assert rows[-1][4:] == (0.0, 0.0), 'the robot still moves after the course'
+    # And the course says so.
+    assert 'Course complete' in out, out
     assert 'odom_out_and_back: every parameter at its default' in out, out
     assert 'Starting in' not in out and 'from the parameter server' not in out, out

@@ -17,18 +17,29 @@ in that order, RViz on a virtual screen (Xvfb), and checks each result:
 - RViz shows sim.rviz: the file the line names says fixed frame odom,
   RViz runs with it, and its screenshot after the course shows the red
   odometry and blue ground-truth arrows (nothing is drawn with a fixed
-  frame tf does not know, nor with RViz's default view);
+  frame tf does not know, nor with RViz's default view), and RViz logged
+  no error: the suite's one check that each view draws its arrows
+  (test/integration/test_rviz_views.py checks where sim.rviz draws them,
+  on the realistic robot);
 - the course completes: exit 0, "Course complete", and the true end pose
   within ~position_tolerance (m) and ~heading_tolerance (deg) of its start,
-  the robot stopped (check_completed_course);
+  the robot stopped (check_completed_course); under lockstep the course is
+  deterministic: its true end matches the pure model's
+  (test/helpers/course_model.py, the first course from the origin, the
+  second from where the first ended) within ~match_position (m) and
+  ~match_heading (deg);
 - odom_ekf follows the book's /odom_combined and /odom_ekf flows
   (~ekf_messages within ~ekf_wait simulated s, in odom, at the true pose);
 - RViz shows nav_ekf.rviz (fixed frame odom) and, after the course again
   (completing as above), its green EKF and blue ground-truth arrows.
 ~first_line_args go after the first line (sim_speed:=max: lockstep at
-full speed). The first RViz is closed before the second starts (CPU).
+full speed). Not deterministic, as neither keeps simulated time: what RViz
+has drawn when the screenshot is taken (its pixel counts), and how many
+/odom_ekf messages the test's wall-clock poll has counted. The first RViz
+is closed before the second starts (CPU).
 Screenshots go to the workspace's test_artifacts/.
 """
+import math
 import os
 import subprocess
 import sys
@@ -42,12 +53,15 @@ import rostest
 import yaml
 from nav_msgs.msg import Odometry
 
+from rbx1_nav.transform_utils import normalize_angle
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, '..', 'helpers'))
 from course_harness import (RobotWatch, check_completed_course,  # noqa: E402
                             wait_until)
+from course_model import reference_end_poses  # noqa: E402
 from rviz_screen import (BLUE, GREEN, MIN_PIXELS, RED, RVIZ_ENV,  # noqa: E402
-                         Processes, colour_counts, rviz_errors)
+                         Processes, colour_counts, rviz_errors, wait_for_picture)
 
 BOOK = [
     'roslaunch rbx1_bringup fake_turtlebot.launch',
@@ -57,7 +71,6 @@ BOOK = [
     'rosrun rviz rviz -d `rospack find rbx1_nav`/nav_ekf.rviz',
 ]
 WALL_LIMIT = 120.0  # s for any one step; a guard, not a measure
-SCREEN_WAIT = 15.0  # wall s for RViz to draw the arrows
 
 
 def artifacts():
@@ -129,42 +142,48 @@ class BookLinesTest(unittest.TestCase):
         self.assertIn(path, argv, 'RViz runs with %s' % argv)
 
     def screenshot(self, log, proc, name, colours):
-        """Grab the screen until each colour's arrows are drawn (RViz draws
-        on the wall clock, slowly on a loaded machine; at most
-        SCREEN_WAIT s); assert they are and RViz logged no error."""
-        from PIL import ImageGrab
-        deadline = time.monotonic() + SCREEN_WAIT
-        while True:
-            time.sleep(1.0)
-            self.assertIsNone(proc.poll(), 'RViz exited:\n' + self.procs.log(log))
-            shot = ImageGrab.grab(xdisplay=self.procs.env['DISPLAY'])
-            counts = colour_counts(shot, colours)
-            if (min(counts.values()) >= MIN_PIXELS
-                    or time.monotonic() > deadline):
-                break
+        """Grab the screen until each colour's arrows are drawn, MIN_PIXELS
+        of each in the 3D view (RViz draws on the wall clock, slowly on a
+        loaded machine: up to rviz_screen.PICTURE_LIMIT s, failing at once
+        if RViz exits); assert RViz logged no error."""
+        shot, took = wait_for_picture(
+            self.procs.env['DISPLAY'], proc, lambda: self.procs.log(log),
+            lambda shot: min(colour_counts(shot, colours).values()) >= MIN_PIXELS,
+            what=lambda shot: 'pixels %s' % colour_counts(shot, colours))
+        counts = colour_counts(shot, colours)
         path = os.path.join(artifacts(), 'book_lines_%s.png' % name)
         shot.save(path)
         # RViz is no lockstep member: what it has drawn follows the wall clock.
-        print('RESULT %s: %s; screenshot %s' % (name, ', '.join(
-            '%s %d pixels (wall-timed)' % item for item in counts.items()), path))
+        print('RESULT %s: %s, drawn after %.1f s wall; screenshot %s' % (name, ', '.join(
+            '%s %d pixels (wall-timed)' % item for item in counts.items()), took, path))
         self.assertEqual(rviz_errors(self.procs.log(log)), [])
-        for colour, count in counts.items():
-            self.assertGreaterEqual(count, MIN_PIXELS, '%s not drawn (%d pixels) '
-                                    'in %s' % (colour, count, path))
 
-    def course(self, watch):
+    def course(self, watch, model):
+        """The typed course completes near its start and ends where the
+        pure model's course does (``model``, its true end pose)."""
         start = watch.pose()
         log, proc = self.type(BOOK[2], 'course')
         began = time.monotonic()
         check_completed_course(self, watch, TypedCourse(self.procs, log, proc),
                                start)
         print('RESULT course: %.1f s wall' % (time.monotonic() - began))
+        end = watch.pose()
+        off = math.hypot(end.x - model.x, end.y - model.y)
+        turn = math.degrees(normalize_angle(end.yaw - model.yaw))
+        print('RESULT course end (%.6f, %.6f, %.4f deg), model (%.6f, %.6f, '
+              '%.4f deg): off by %.4f mm, %.5f deg'
+              % (end.x, end.y, math.degrees(end.yaw), model.x, model.y,
+                 math.degrees(model.yaw), 1000 * off, turn))
+        self.assertLess(off, float(rospy.get_param('~match_position')))
+        self.assertLess(abs(turn), float(rospy.get_param('~match_heading')))
 
     def test_the_books_lines_work_as_typed(self):
         # A skip would show as a pass: RViz's view is half of what this checks.
         self.assertTrue(os.path.exists('/usr/bin/Xvfb'),
                         'Xvfb is not installed: make deps installs it')
         self.procs.start_xvfb()
+        # The book's course twice, one after the other: where it ends.
+        models = reference_end_poses({}, courses=2)
 
         # 1. The robot.
         self.type(BOOK[0] + ' ' + rospy.get_param('~first_line_args', ''),
@@ -175,7 +194,7 @@ class BookLinesTest(unittest.TestCase):
         # 2. RViz with sim.rviz; 3. the course; the red and blue arrows.
         log, rviz = self.type(BOOK[1], 'rviz_sim')
         self.rviz_up(log, rviz, 'sim.rviz', '/odom')
-        self.course(watch)
+        self.course(watch, models[0])
         self.screenshot(log, rviz, 'sim', {'odometry (red)': RED,
                                            'ground truth (blue)': BLUE})
         began = time.monotonic()
@@ -214,7 +233,7 @@ class BookLinesTest(unittest.TestCase):
         # 5. RViz with nav_ekf.rviz; the course again, as the book has it.
         log, rviz = self.type(BOOK[4], 'rviz_ekf')
         self.rviz_up(log, rviz, 'nav_ekf.rviz', '/odom_ekf')
-        self.course(watch)
+        self.course(watch, models[1])
         self.screenshot(log, rviz, 'nav_ekf', {'EKF odometry (green)': GREEN,
                                                'ground truth (blue)': BLUE})
 

@@ -4,8 +4,8 @@
 The course node (odom_out_and_back.py with ~course_params) runs against the
 fake robot under lockstep simulated time, with ~burners CPU-burning
 processes beside it. The reference is the same course run in plain Python
-on the simulator's own model (rbx1_nav.sim.diff_drive.DiffDriveSim, the ideal
-robot), each command held for one control period: what the graph does
+on the simulator's own model (test/helpers/course_model.py: the ideal
+robot, each command held for one control period): what the graph does
 when no message is late. The true end pose must match it within
 ~match_position (m) and ~match_heading (deg), whatever the clock's speed
 (the .test files run it at 1x and at max with burners) and the load, and
@@ -26,35 +26,10 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from course_harness import (CourseProcess, RobotWatch,  # noqa: E402
                             check_completed_course)
 
-from rbx1_nav.sim.diff_drive import DiffDriveSim  # noqa: E402
-from rbx1_nav.motion.book import CourseConfig, OutAndBack  # noqa: E402
+from course_model import reference_end_pose  # noqa: E402
 from rbx1_nav.transform_utils import normalize_angle  # noqa: E402
 
 BURN = 'while True: pass'
-
-
-def reference_end_pose(course_params):
-    """The course on DiffDriveSim, one command per control period.
-
-    ``course_params`` are the node's private parameters (angular_tolerance
-    in degrees, rate in Hz; the rest as rbx1_nav.motion.book.CourseConfig).
-    """
-    settings = dict(course_params)
-    rate = settings.pop('rate', 20.0)
-    settings.pop('tf_timeout', None)
-    settings['angular_tolerance'] = math.radians(
-        settings.get('angular_tolerance', 1.0))
-    course = OutAndBack(CourseConfig(**settings))
-    robot = DiffDriveSim()
-    period_ns = int(round(1e9 / rate))
-    tick = 0
-    robot.step(0.0)
-    while not course.done:
-        cmd = course.update(robot.odom, tick * 1e-9)
-        robot.command(cmd.linear, cmd.angular, tick * 1e-9)
-        tick += period_ns
-        robot.step(tick * 1e-9)
-    return robot.truth
 
 
 class LockstepCourseTest(unittest.TestCase):

@@ -1,0 +1,48 @@
+"""The pure model of the book's out-and-back (imported, not a node; no
+ROS): the course run in plain Python on the simulator's own model
+(rbx1_nav.sim.diff_drive.DiffDriveSim, the ideal robot), each command held
+for one control period: what a graph under lockstep does when no message
+is late, so its true end matches to 0.1 mm and 0.01 deg.
+
+Used by test/rostest/lockstep_course_test.py and
+test/rostest/book_lines_test.py.
+"""
+import math
+
+from rbx1_nav.sim.diff_drive import DiffDriveSim
+from rbx1_nav.motion.book import CourseConfig, OutAndBack
+
+
+def reference_end_poses(course_params, courses=1):
+    """The true end pose (Pose2D) of each of ``courses`` runs of the course
+    on one DiffDriveSim, each from where the last left the robot, as one
+    course node after another drives it.
+
+    ``course_params`` are the node's private parameters (angular_tolerance
+    in degrees, rate in Hz; the rest as rbx1_nav.motion.book.CourseConfig).
+    """
+    settings = dict(course_params)
+    rate = settings.pop('rate', 20.0)
+    settings.pop('tf_timeout', None)
+    settings['angular_tolerance'] = math.radians(
+        settings.get('angular_tolerance', 1.0))
+    robot = DiffDriveSim()
+    period_ns = int(round(1e9 / rate))
+    tick = 0
+    robot.step(0.0)
+    ends = []
+    for _ in range(courses):
+        course = OutAndBack(CourseConfig(**settings))
+        while not course.done:
+            cmd = course.update(robot.odom, tick * 1e-9)
+            robot.command(cmd.linear, cmd.angular, tick * 1e-9)
+            tick += period_ns
+            robot.step(tick * 1e-9)
+        ends.append(robot.truth)
+    return ends
+
+
+def reference_end_pose(course_params):
+    """The true end pose of one course from the origin (see
+    :func:`reference_end_poses`)."""
+    return reference_end_poses(course_params)[0]
