@@ -19,7 +19,7 @@ Sections (``--sections``, all but population by default):
   speed-up, final error.
   Then the CPU seconds per simulated second of every node, the default
   course under lockstep at full speed, ``--speed-rounds`` times; with
-  ``--against WORKSPACE`` (another commit's, built by ``make build
+  ``--speed-against WORKSPACE`` (another commit's, built by ``make build
   WS=...``) that workspace's course after each of ours, side by side.
 - cpu: our out-and-back beside the book's own script (bench/book/), one
   default course each on a fresh master and ``rosrun rbx1_nav
@@ -515,7 +515,7 @@ def main():
     parser.add_argument('--runs', type=int, default=10)
     parser.add_argument('--cpu-rounds', type=int, default=3,
                         help='cpu: rounds of (ours, book\'s), about 80 s each')
-    parser.add_argument('--against', metavar='WORKSPACE',
+    parser.add_argument('--speed-against', metavar='WORKSPACE',
                         help='speed: also the CPU per simulated second of the course in '
                         'WORKSPACE (another commit, built with make build WS=...), side by side')
     parser.add_argument('--speed-rounds', type=int, default=3,
@@ -546,7 +546,7 @@ def main():
         results['accuracy'] = accuracy(args.runs)
     if 'speed' in args.sections:
         results['speed'] = speed()
-        results['cpu_per_sim_s'] = cpu_per_sim_s(args.against, args.speed_rounds)
+        results['cpu_per_sim_s'] = cpu_per_sim_s(args.speed_against, args.speed_rounds)
     if 'cpu' in args.sections:
         results['cpu'] = course_cpu.run(args.cpu_rounds)
     if 'scale' in args.sections:
