@@ -33,6 +33,7 @@ import rosgraph
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'helpers'))
 import link  # noqa: E402
+from master import wait_for_master  # noqa: E402
 from ports import free_port  # noqa: E402
 from test_two_hosts import (LINK_GRACE, PRECISE, PRECISE_END_DEG, PRECISE_END_MM,  # noqa: E402
                             SHORT_COURSE, TF_TIMEOUT, Lines, assert_precise_end, position,
@@ -81,11 +82,7 @@ class Graph(object):
 
     def start_master(self):
         core = self.start(['roscore', '-p', str(self.port)])
-        deadline = time.monotonic() + 30
-        while not rosgraph.is_master_online(self.uri):
-            assert core.proc.poll() is None and time.monotonic() < deadline, \
-                'roscore did not start:\n' + core.text()
-            time.sleep(0.02)
+        wait_for_master(self.uri, core.proc, core.text)
         return core, time.monotonic()
 
     def close(self):

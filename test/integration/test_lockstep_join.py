@@ -14,7 +14,6 @@ import shutil
 import signal
 import subprocess
 import sys
-import threading
 import time
 
 import pytest
@@ -23,6 +22,8 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, '..', 'helpers'))
 from master import HANG_GUARD, wait_for_master  # noqa: E402
 from ports import free_port  # noqa: E402
+sys.path.insert(0, os.path.join(HERE, '..', 'faults'))
+from test_two_hosts import Lines  # noqa: E402
 
 pytestmark = pytest.mark.skipif(
     not shutil.which('rosrun') or 'ROS_PACKAGE_PATH' not in os.environ,
@@ -45,33 +46,17 @@ WAITING = 'is up but not yet connected'
 GONE = 'nothing grants lockstep steps on /lockstep_grant'
 
 
-class Lines(object):
-    """A process's output, read as it comes."""
+def start(cmd, env):
+    return Lines(subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                  universal_newlines=True, start_new_session=True))
 
-    def __init__(self, cmd, env):
-        self.proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE,
-                                     stderr=subprocess.STDOUT, universal_newlines=True,
-                                     start_new_session=True)
-        self.lines = []
-        threading.Thread(target=lambda: self.lines.extend(self.proc.stdout), daemon=True).start()
 
-    def text(self):
-        return ''.join(self.lines)
-
-    def wait_for(self, text):
-        started = time.monotonic()
-        while text not in self.text():
-            assert self.proc.poll() is None or text in self.text(), (
-                'ended (exit %s) without %r:\n%s' % (self.proc.returncode, text, self.text()))
-            assert time.monotonic() - started < HANG_GUARD, 'no %r:\n%s' % (text, self.text())
-            time.sleep(0.05)
-
-    def kill(self, sig=signal.SIGKILL):
-        try:
-            os.killpg(self.proc.pid, sig)
-        except ProcessLookupError:
-            pass
-        self.proc.wait()
+def kill(lines):
+    try:
+        os.killpg(lines.proc.pid, signal.SIGKILL)
+    except ProcessLookupError:
+        pass
+    lines.proc.wait()
 
 
 def test_a_course_waits_for_a_live_owner_and_not_for_a_dead_one(tmp_path):
@@ -81,20 +66,20 @@ def test_a_course_waits_for_a_live_owner_and_not_for_a_dead_one(tmp_path):
     env.pop('ROS_NAMESPACE', None)
     procs = []
     try:
-        core = Lines(['rosmaster', '--core', '-p', str(port)], env)
+        core = start(['rosmaster', '--core', '-p', str(port)], env)
         procs.append(core)
         wait_for_master(env['ROS_MASTER_URI'], core.proc, core.text)
         for name in ('/use_sim_time', '/lockstep'):
             subprocess.run(['rosparam', 'set', name, 'true'], env=env, check=True)
-        owner = Lines([sys.executable, '-c', OWNER], env)
+        owner = start([sys.executable, '-c', OWNER], env)
         procs.append(owner)
-        course = Lines(['rosrun', 'rbx1_nav', 'odom_out_and_back.py', '_tf_wait:=1.0'], env)
+        course = start(['rosrun', 'rbx1_nav', 'odom_out_and_back.py', '_tf_wait:=1.0'], env)
         procs.append(course)
         # Past its 1 s wait, alive: still waiting, saying for whom.
-        course.wait_for(WAITING)
+        _, line = course.wait_for(WAITING)
         assert course.proc.poll() is None, course.text()
-        assert '/sim_clock' in course.text().split(WAITING)[0].splitlines()[-1], course.text()
-        owner.kill()  # stays registered with the master, answers no more
+        assert '/sim_clock' in line, course.text()
+        kill(owner)  # stays registered with the master, answers no more
         started = time.monotonic()
         status = course.proc.wait(HANG_GUARD)
         waited = time.monotonic() - started
@@ -106,5 +91,5 @@ def test_a_course_waits_for_a_live_owner_and_not_for_a_dead_one(tmp_path):
         # of wall time plus start-up of nothing (hang guard only).
         print('the course gave up %.1f s after its owner died' % waited)
     finally:
-        for proc in reversed(procs):
-            proc.kill()
+        for lines in reversed(procs):
+            kill(lines)
