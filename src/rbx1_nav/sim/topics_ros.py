@@ -237,14 +237,15 @@ class RobotTopics:
                           self.log_name, (stamp - self.stopped_at).to_sec())
         self.was_timed_out = timed_out
 
-    def publish(self, stamp):
-        """After a step: the watchdog's log lines, then odom, its tf, joint
-        states, ground truth, the gyro and GPS. A message nobody subscribes
-        to is not even made (rospy would drop it)."""
+    def publish(self, stamp, tf=True):
+        """After a step: the watchdog's log lines, then odom, its tf (with
+        ``tf``), joint states, ground truth, the gyro and GPS. A message
+        nobody subscribes to is not even made (rospy would drop it)."""
         self.report_watchdog(stamp)
+        tf_pub = self.tf_pub if tf else None
         if self.odom_pub.get_num_connections() or (
-                self.tf_pub and self.tf_pub.get_num_connections()):
-            self.publish_odometry(stamp)
+                tf_pub and tf_pub.get_num_connections()):
+            self.publish_odometry(stamp, tf_pub)
         robot = self.robot
         if self.joint_pub.get_num_connections():  # robot_state_publisher, a bag
             joints = JointState(name=self.joints, position=robot.wheel_angles,
@@ -261,18 +262,18 @@ class RobotTopics:
         if self.gps_pub:
             self.publish_gps_fix(stamp)
 
-    def publish_odometry(self, stamp):
-        """odom and its tf."""
+    def publish_odometry(self, stamp, tf_pub):
+        """odom, and its tf on ``tf_pub`` (None: not)."""
         robot = self.robot
         odom_pose = robot.odom
         odom = fill_odometry(self.odom_msg, stamp, self.odom_frame, self.base_frame,
                              odom_pose, robot.odom_velocity)
         self.send_sensor(self.odom_pub, odom)
 
-        if self.tf_pub:
+        if tf_pub:
             translation = self.tf_msg.transforms[0].transform.translation
             translation.x, translation.y = odom_pose.x, odom_pose.y
-            self.send_sensor(self.tf_pub, self.tf_msg)  # counted: a course
+            self.send_sensor(tf_pub, self.tf_msg)  # counted: a course
             # starting under lockstep finds it at the same tick every run
 
     def publish_gps_fix(self, stamp):
