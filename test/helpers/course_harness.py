@@ -385,6 +385,19 @@ def wait_until(predicate, wall_limit=WALL_LIMIT):
     return True
 
 
+#: Wall seconds between two questions to the master while a node runs: a
+#: loop paced in simulated time would ask hundreds of times a wall second
+#: at full speed, and the master (rostest's own process) answers each.
+MASTER_POLL = 0.1
+
+
+def node_registered(master, node):
+    """True while ``node`` has a publication or subscription on ``master``
+    (a rosgraph.Master)."""
+    publishers, subscribers, _ = master.getSystemState()
+    return any(node in nodes for _, nodes in publishers + subscribers)
+
+
 def kill_node(name):
     """Shut node ``name`` down as ``rosnode kill`` does, from this process:
     a new ``rosnode`` process takes about a second to start on a loaded

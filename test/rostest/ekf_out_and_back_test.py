@@ -26,7 +26,8 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
-from course_harness import is_zero, launched_node_status  # noqa: E402
+from course_harness import (MASTER_POLL, is_zero, launched_node_status,  # noqa: E402
+                            node_registered)
 from rbx1_nav.transform_utils import normalize_angle, quat_to_angle  # noqa: E402
 
 
@@ -76,12 +77,6 @@ class Track(object):
 class EkfOutAndBackTest(unittest.TestCase):
     """Raw odometry versus the fused estimate on the same course."""
 
-    def course_running(self, master, ns):
-        """Whether /ns/odom_out_and_back is still registered."""
-        node = '/%s/odom_out_and_back' % ns
-        publishers, subscribers, _ = master.getSystemState()
-        return any(node in nodes for _, nodes in publishers + subscribers)
-
     def check_completed(self, ns, track, max_end):
         """What check_completed_course asserts, for a course node the .test
         started: exit status 0, "Course complete" logged, the robot stopped
@@ -121,14 +116,14 @@ class EkfOutAndBackTest(unittest.TestCase):
         pending, seen = set(namespaces), set()
         while pending and not rospy.is_shutdown():
             for ns in list(pending):
-                if self.course_running(master, ns):
+                if node_registered(master, '/%s/odom_out_and_back' % ns):
                     seen.add(ns)
                 elif ns in seen:
                     pending.discard(ns)
             self.assertLess(rospy.Time.now(), deadline,
                             'course not over in %s: %s' % (
                                 timeout.to_sec(), ' '.join(sorted(pending))))
-            rospy.sleep(0.2)
+            rospy.rostime.wallsleep(MASTER_POLL)
         rospy.sleep(1.0)  # let the robots coast to a stop
         for ns, track in tracks.items():
             self.assertGreater(track.farthest, 0.5, '%s: the robot never went '

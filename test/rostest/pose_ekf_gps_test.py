@@ -14,6 +14,8 @@ that average's: about gps_noise / sqrt(fixes). ~settle_time must give enough
 fixes for the limit to hold by design, not by a lucky draw of the noise.
 """
 import math
+import os
+import sys
 import threading
 import unittest
 
@@ -22,6 +24,9 @@ import rospy
 import rostest
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
+from course_harness import MASTER_POLL, node_registered  # noqa: E402
 
 
 class Latest(object):
@@ -53,10 +58,6 @@ class Latest(object):
 
 class PoseEkfGpsTest(unittest.TestCase):
 
-    def course_running(self, master, node):
-        publishers, subscribers, _ = master.getSystemState()
-        return any(node in nodes for _, nodes in publishers + subscribers)
-
     def test_gps_fused_pose_ends_closer_to_the_truth(self):
         timeout = rospy.Duration(float(rospy.get_param('~timeout')))
         max_ratio = float(rospy.get_param('~max_error_ratio'))
@@ -68,14 +69,14 @@ class PoseEkfGpsTest(unittest.TestCase):
                        PoseWithCovarianceStamped)
         master = rosgraph.Master(rospy.get_name())
         deadline = rospy.Time.now() + timeout
-        while truth.msg is None or not self.course_running(master, course):
+        while truth.msg is None or not node_registered(master, course):
             self.assertLess(rospy.Time.now(), deadline,
                             'no ground_truth or no course node')
-            rospy.sleep(0.2)
-        while self.course_running(master, course) and not rospy.is_shutdown():
+            rospy.rostime.wallsleep(MASTER_POLL)
+        while node_registered(master, course) and not rospy.is_shutdown():
             self.assertLess(rospy.Time.now(), deadline,
                             'course not completed in %.0f s' % timeout.to_sec())
-            rospy.sleep(0.5)
+            rospy.rostime.wallsleep(MASTER_POLL)
         # The robot stops; at rest the GPS fixes keep refining the fused pose.
         rospy.sleep(float(rospy.get_param('~settle_time')))
         self.assertGreater(truth.farthest, min_excursion,
