@@ -1,7 +1,8 @@
 """A lockstep simulator's own grid (rbx1_nav.sim.loop_ros._Grid): at full
 speed sim_clock grants only a course's ticks, and the simulator steps
-through its grid on the way to each; those steps publish everything but
-tf, which a course reads at its ticks only."""
+through its grid on the way to each; those steps send only the sensor
+messages (odom, the gyro, GPS), not tf or ground truth, which a node
+reads at its ticks."""
 from rbx1_nav.sim.loop_ros import _Grid
 from rbx1_nav.sim_time.member import HANDLE
 
@@ -12,9 +13,9 @@ class Robot(object):
     step_time = None
 
 
-def test_steps_on_the_way_to_a_grant_publish_all_but_tf():
+def test_steps_on_the_way_to_a_grant_are_not_granted_steps():
     steps, robot = [], Robot()
-    grid = _Grid(20 * MS, lambda stamp, tf: steps.append((stamp.to_nsec() // MS, tf)),
+    grid = _Grid(20 * MS, lambda stamp, granted: steps.append((stamp.to_nsec() // MS, granted)),
                  [robot], 'test')
     assert grid.step_to(HANDLE, 0, []) == 20 * MS
     # A 20 Hz course's tick at 50 ms: the 50 Hz grid's 20 and 40 ms on the way.

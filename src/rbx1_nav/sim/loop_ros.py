@@ -112,7 +112,7 @@ class _Grid(object):
                 (self.last - now) * 1e-9))
             self.next = None
         while self.next is not None and self.next < now:  # its own steps on the way
-            _step_at(self.next, self.step, self.robots, tf=False)
+            _step_at(self.next, self.step, self.robots, granted=False)
             self.next += self.period
         _step_at(now, self.step, self.robots)
         self.last = now
@@ -123,16 +123,16 @@ class _Grid(object):
         return self.next
 
 
-def _step_at(time_ns, step, robots, tf=True):
+def _step_at(time_ns, step, robots, granted=True):
     """Step to ``time_ns``; commands queued from now on count from there.
 
-    A step on the way to a grant (at full speed, sim_clock grants only the
-    nodes' ticks) publishes no tf (``tf`` False): a tf listener is granted
-    its ticks and looks up the transform there, and /tf reaches every
-    listener, so a 20 Hz course on this 50 Hz grid would receive three
-    transforms per tick and use one. Every other topic still has every
-    step: a filter counts each odom message, the stall count reads each
-    velocity, a test the ground truth at any step."""
+    A step on the way to a grant (at full speed sim_clock grants only the
+    nodes' ticks; ``granted`` False) sends only the sensor messages nodes
+    use at every step: odom (a filter counts each, a course's stall count
+    reads each velocity), the gyro and GPS. Not tf, ground truth or joint
+    states: a node is granted its ticks and reads them there, and a 20 Hz
+    course on this 50 Hz grid would receive three of each per tick and
+    use one."""
     for robot in robots:
         robot.step_time = time_ns * 1e-9
-    step(from_ns(time_ns), tf)
+    step(from_ns(time_ns), granted)

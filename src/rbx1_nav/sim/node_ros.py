@@ -36,14 +36,14 @@ class Simulator:
         rbx1_nav.sim.loop_ros.spin_simulator."""
         spin_simulator(self.rate, self.step, self.robots, self.log_name)
 
-    def step(self, stamp, tf=True):
+    def step(self, stamp, granted=True):
         """Advance every robot to ``stamp`` and publish their new states
-        (their tf only with ``tf``: rbx1_nav.sim.loop_ros._step_at)."""
+        (all of them only at a ``granted`` step: rbx1_nav.sim.loop_ros._step_at)."""
         with self.lock:
             advanced = self.sim.step(stamp.to_sec())
         if advanced:
             for robot in self.robots:
-                robot.publish(stamp, tf)
+                robot.publish(stamp, granted)
 
 
 def _run(name, specs, doc, make):

@@ -237,23 +237,26 @@ class RobotTopics:
                           self.log_name, (stamp - self.stopped_at).to_sec())
         self.was_timed_out = timed_out
 
-    def publish(self, stamp, tf=True):
-        """After a step: the watchdog's log lines, then odom, its tf (with
-        ``tf``), joint states, ground truth, the gyro and GPS. A message
-        nobody subscribes to is not even made (rospy would drop it)."""
+    def publish(self, stamp, granted=True):
+        """After a step: the watchdog's log lines, then odom, its tf, joint
+        states, ground truth, the gyro and GPS. A message nobody subscribes
+        to is not even made (rospy would drop it). A step on the way to a
+        grant (``granted`` False: rbx1_nav.sim.loop_ros._step_at) sends
+        only the sensor messages nodes use at every step: odom, the gyro
+        and GPS."""
         self.report_watchdog(stamp)
-        tf_pub = self.tf_pub if tf else None
+        tf_pub = self.tf_pub if granted else None
         if self.odom_pub.get_num_connections() or (
                 tf_pub and tf_pub.get_num_connections()):
             self.publish_odometry(stamp, tf_pub)
         robot = self.robot
-        if self.joint_pub.get_num_connections():  # robot_state_publisher, a bag
+        if granted and self.joint_pub.get_num_connections():  # robot_state_publisher, a bag
             joints = JointState(name=self.joints, position=robot.wheel_angles,
                                 velocity=robot.wheel_velocities)
             joints.header.stamp = stamp
             self.joint_pub.publish(joints)
 
-        if self.truth_pub.get_num_connections():
+        if granted and self.truth_pub.get_num_connections():
             self.truth_pub.publish(fill_odometry(self.truth_msg, stamp, self.truth_frame,
                                                  self.base_frame, robot.truth,
                                                  robot.velocity))

@@ -39,8 +39,8 @@ simulator costs the union of both grids, not a 10 ms walk. With ``batch``
 motion nodes' ticks are granted while any takes part: a simulator steps
 through its own grid up to each grant on its own, as Gazebo's physics runs
 between two sensor or controller updates, with the same states and stamps
-(its tf at the grants only: rbx1_nav.sim.loop_ros) and a third of the
-round trips.
+(its tf and ground truth at the grants only: rbx1_nav.sim.loop_ros) and a
+third of the round trips.
 
 Why nothing can wait forever (the deadlock argument):
 
