@@ -10,7 +10,6 @@ last cmd_vel's time, the robot travels between ~min_travel and
 import os
 import signal
 import sys
-import threading
 import unittest
 
 import rospy
@@ -18,30 +17,24 @@ import rostest
 from nav_msgs.msg import Odometry
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
-from course_harness import (CourseProcess, RobotWatch, wait_sim,  # noqa: E402
-                            wait_under_way)
+from course_harness import (CourseProcess, RobotWatch, TopicLog,  # noqa: E402
+                            wait_sim, wait_under_way)
 from rbx1_nav.motion.command import pose_error  # noqa: E402
 from rbx1_nav.transform_utils import Pose2D, quat_to_angle  # noqa: E402
 
 
-class TruthLog(object):
+class TruthLog(TopicLog):
     """Every ground_truth of the robot: (stamp, Pose2D), in order."""
 
     def __init__(self):
-        self.lock = threading.Lock()
-        self.poses = []
-        rospy.Subscriber('ground_truth', Odometry, self._on_truth)
-
-    def _on_truth(self, msg):
-        p = msg.pose.pose
-        with self.lock:
-            self.poses.append((msg.header.stamp, Pose2D(
-                p.position.x, p.position.y, quat_to_angle(p.orientation))))
+        TopicLog.__init__(self, 'ground_truth', Odometry, lambda msg: (
+            msg.header.stamp, Pose2D(msg.pose.pose.position.x, msg.pose.pose.position.y,
+                                     quat_to_angle(msg.pose.pose.orientation))))
 
     def at(self, stamp):
         """The first (stamp, pose) at or after ``stamp``."""
         with self.lock:
-            return next(((t, pose) for t, pose in self.poses if t >= stamp), (None, None))
+            return next(((t, pose) for t, pose in self.records if t >= stamp), (None, None))
 
 
 class KilledTest(unittest.TestCase):

@@ -124,17 +124,31 @@ class RobotWatch(object):
             return self.commands[-1] if self.commands else (None, None)
 
 
-class RosoutWatch(object):
+class TopicLog(object):
+    """Every message on ``topic``, as ``keep(msg)`` makes it, in order of
+    arrival: ``records`` (under ``lock``), or a copy from :meth:`snapshot`."""
+
+    def __init__(self, topic, msg_type, keep=lambda msg: msg):
+        self.lock = threading.Lock()
+        self.records = []
+        self.keep = keep
+        rospy.Subscriber(topic, msg_type, self._on_msg)
+
+    def _on_msg(self, msg):
+        item = self.keep(msg)
+        with self.lock:
+            self.records.append(item)
+
+    def snapshot(self):
+        with self.lock:
+            return list(self.records)
+
+
+class RosoutWatch(TopicLog):
     """Log lines that nodes send to /rosout, with their ROS time stamps."""
 
     def __init__(self):
-        self.lock = threading.Lock()
-        self.records = []
-        rospy.Subscriber('/rosout', Log, self._on_log)
-
-    def _on_log(self, msg):
-        with self.lock:
-            self.records.append(msg)
+        TopicLog.__init__(self, '/rosout', Log)
 
     def find(self, node, text):
         """The first Log from ``node`` (resolved name) containing ``text``."""

@@ -17,7 +17,6 @@ import os
 import signal
 import subprocess
 import sys
-import threading
 import unittest
 
 import rospy
@@ -25,34 +24,18 @@ import rostest
 from nav_msgs.msg import Odometry
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
-from course_harness import CourseProcess, RosoutWatch, wait_until  # noqa: E402
+from course_harness import CourseProcess, RosoutWatch, TopicLog, wait_until  # noqa: E402
 
 NODE = '/fake_turtlebot'
 ODOM_WINDOW = 2.0  # simulated s of odom counted once a clock runs
-
-
-class OdomStamps(object):
-    """The stamps (ROS s) of the robot's odom, as they arrive."""
-
-    def __init__(self):
-        self.lock = threading.Lock()
-        self.received = []
-        rospy.Subscriber('/odom', Odometry, self._on_odom)
-
-    def _on_odom(self, msg):
-        with self.lock:
-            self.received.append(msg.header.stamp.to_sec())
-
-    def stamps(self):
-        with self.lock:
-            return list(self.received)
 
 
 class FakeTurtlebotLeftoversTest(unittest.TestCase):
 
     def test_no_clock_and_a_leftover_parameter_are_named(self):
         log = RosoutWatch()
-        odom = OdomStamps()
+        # The stamps (ROS s) of the robot's odom, as they arrive.
+        odom = TopicLog('/odom', Odometry, lambda msg: msg.header.stamp.to_sec())
         node = subprocess.Popen(['rosrun', 'rbx1_nav', 'fake_turtlebot.py'])
         sim_clock = None
         try:
@@ -67,13 +50,13 @@ class FakeTurtlebotLeftoversTest(unittest.TestCase):
             # The robot goes on after its warnings: once a clock grants it
             # steps (sim_clock, as the warning says), odom comes at the
             # leftover 30 Hz, a stamp every simulated 1/30 s.
-            self.assertEqual(odom.stamps(), [], 'odom without a clock')
+            self.assertEqual(odom.snapshot(), [], 'odom without a clock')
             sim_clock = CourseProcess(script='sim_clock.py', name='sim_clock')
-            self.assertTrue(wait_until(lambda: len(odom.stamps()) > ODOM_WINDOW * 30,
+            self.assertTrue(wait_until(lambda: len(odom.snapshot()) > ODOM_WINDOW * 30,
                                        wall_limit=30.0),
                             'not %.0f s of odom within 30 s (wall) of sim_clock\'s '
                             'start:\n%s' % (ODOM_WINDOW, sim_clock.output))
-            stamps = odom.stamps()
+            stamps = odom.snapshot()
             node.send_signal(signal.SIGINT)
             status = node.wait(30)
         finally:
