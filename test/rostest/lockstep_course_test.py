@@ -2,22 +2,32 @@
 """Under lockstep, the ROS graph drives exactly the pure model's course.
 
 The course node (odom_out_and_back.py with ~course_params) runs against the
-fake robot under lockstep simulated time, with ~burners CPU-burning
-processes beside it. The reference is the same course run in plain Python
-on the simulator's own model (test/helpers/course_model.py: the ideal
-robot, each command held for one control period): what the graph does
-when no message is late. The true end pose must match it within
+fake robot under lockstep simulated time. With ~stalls true, the test
+freezes the graph's processes (the robot, sim_clock, the course) one at a
+time at random, as a loaded machine takes a process off the CPU, but
+often and for long (1 to 30 ms out of every 2 to 20): any message that
+could arrive late does. The reference is the same course run in plain
+Python on the simulator's own model (test/helpers/course_model.py: the
+ideal robot, each command held for one control period): what the graph
+does when no message is late. The true end pose must match it within
 ~match_position (m) and ~match_heading (deg), whatever the clock's speed
-(the .test files run it at 1x and at max with burners) and the load, and
+(the .test files run it at 1x and at max with stalls) and the load, and
 end within ~position_tolerance (m) and ~heading_tolerance (deg) of the
 start, the robot stopped; each of ~expect_in_output (strings) must be in
-the course's log.
+the course's log. The same graph beside real CPU burners is
+bench/determinism.py's (its loaded run) and bench/soak.py's: burners in
+the suite would cost as much CPU as the graph they slow, for no verdict
+stalls do not give.
 """
 import math
 import os
-import subprocess
+import random
+import signal
 import sys
+import threading
+import time
 import unittest
+import xmlrpc.client
 
 import rospy
 import rostest
@@ -29,7 +39,48 @@ from course_harness import (CourseProcess, RobotWatch,  # noqa: E402
 from course_model import reference_end_pose  # noqa: E402
 from rbx1_nav.transform_utils import normalize_angle  # noqa: E402
 
-BURN = 'while True: pass'
+#: Seed of the stalls: which process, when and how long. The end pose must
+#: not depend on it (it is the load's stand-in), so any seed would do.
+STALL_SEED = 1
+
+
+def node_pid(name):
+    """The process id of node ``name``, asked of the node itself."""
+    uri = rospy.get_master().lookupNode(name)[2]
+    return xmlrpc.client.ServerProxy(uri).getPid(rospy.get_name())[2]
+
+
+class Stalls(object):
+    """Freezes one of ``pids`` at a time (SIGSTOP, then SIGCONT) at random
+    until :meth:`stop`: 1 to 30 wall ms every 2 to 20 ms; counts them."""
+
+    def __init__(self, pids, seed=STALL_SEED):
+        self.pids, self.count = pids, 0
+        self._random = random.Random(seed)
+        self._done = threading.Event()
+        self._thread = threading.Thread(target=self._run, daemon=True)
+        self._thread.start()
+
+    def _run(self):
+        while not self._done.wait(self._random.uniform(0.002, 0.020)):
+            pid = self._random.choice(self.pids)
+            try:
+                os.kill(pid, signal.SIGSTOP)
+                time.sleep(self._random.uniform(0.001, 0.030))
+            except ProcessLookupError:  # the course has just ended
+                continue
+            finally:
+                try:
+                    os.kill(pid, signal.SIGCONT)
+                except ProcessLookupError:
+                    pass
+            self.count += 1
+
+    def stop(self):
+        """Ends the stalls, every process running; returns their count."""
+        self._done.set()
+        self._thread.join()
+        return self.count
 
 
 class LockstepCourseTest(unittest.TestCase):
@@ -37,22 +88,22 @@ class LockstepCourseTest(unittest.TestCase):
     def test_graph_matches_the_model_under_load(self):
         params = rospy.get_param('~course_params', {})
         expected = reference_end_pose(params)
-        burners = [subprocess.Popen([sys.executable, '-c', BURN])
-                   for _ in range(int(rospy.get_param('~burners', 0)))]
+        watch = RobotWatch()
+        start = watch.wait_for_truth()
+        course = CourseProcess(params=params)
+        stalls = None
+        if rospy.get_param('~stalls', False):
+            stalls = Stalls([node_pid('/fake_turtlebot'), node_pid('/sim_clock'),
+                             course.proc.pid])
         try:
-            watch = RobotWatch()
-            start = watch.wait_for_truth()
-            course = CourseProcess(params=params)
-            try:
-                check_completed_course(self, watch, course, start)
-                for text in rospy.get_param('~expect_in_output', []):
-                    self.assertIn(text, course.output)
-            finally:
-                course.cleanup()
+            check_completed_course(self, watch, course, start)
+            for text in rospy.get_param('~expect_in_output', []):
+                self.assertIn(text, course.output)
         finally:
-            for proc in burners:
-                proc.kill()
-                proc.wait()
+            if stalls:
+                print('RESULT %d stalls of the robot, sim_clock and the course'
+                      % stalls.stop())
+            course.cleanup()
         final = watch.pose()
         dx, dy = final.x - expected.x, final.y - expected.y
         dyaw = math.degrees(normalize_angle(final.yaw - expected.yaw))

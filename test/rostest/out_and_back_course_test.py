@@ -5,7 +5,7 @@ end pose.
 Used by courses.test (the course nodes on the ideal robot) and
 turtlebot2_remap.test. (The odometry course in the book's mode on the
 ideal robot is checked against the pure model by lockstep_course_test.py,
-in lockstep_1x.test, lockstep_max_loaded.test and
+in lockstep_1x.test, lockstep_max_stalled.test and
 out_and_back_base_link.test.)
 
 ~courses is a list, one test case per entry, run in its order, each from
