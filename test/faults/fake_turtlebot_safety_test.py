@@ -94,7 +94,7 @@ class Safety(unittest.TestCase):
                          and m.level >= Log.WARN and warnings.append(m), queue_size=10000)
         pub = rospy.Publisher('cmd_vel', Twist, queue_size=1000, tcp_nodelay=True)
         self.assertTrue(wait_for(lambda: pub.get_num_connections() > 0, 30.0, wall=True))
-        left = subprocess.Popen(['rosrun', 'rostopic', 'rostopic', 'pub', '-r', '10',
+        left = subprocess.Popen(['rostopic', 'pub', '-r', '10',
                                  'cmd_vel', 'geometry_msgs/Twist', '{}',
                                  '__name:=left_running'])
         try:

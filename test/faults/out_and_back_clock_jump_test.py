@@ -23,6 +23,7 @@ from nav_msgs.msg import Odometry
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from course_harness import (CourseProcess, RobotWatch,  # noqa: E402
                             is_zero, wait_under_way, wait_until)
+from rosrun import rosrun  # noqa: E402
 
 
 class ClockJumpTest(unittest.TestCase):
@@ -47,8 +48,8 @@ class ClockJumpTest(unittest.TestCase):
             back_to = watch.truth.header.stamp.to_sec() - jump
             killed = len(stamps)
             clock = subprocess.Popen(
-                ['rosrun', 'rbx1_nav', 'sim_clock.py', '__name:=sim_clock',
-                 '_speed:=5', '_start_time:=%.3f' % back_to],
+                rosrun('rbx1_nav', 'sim_clock.py', '__name:=sim_clock',
+                 '_speed:=5', '_start_time:=%.3f' % back_to),
                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
             status = course.wait()
             self.assertTrue(wait_until(

@@ -24,6 +24,7 @@ from nav_msgs.msg import Odometry
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from course_harness import RosoutWatch, wait_until  # noqa: E402
+from rosrun import rosrun  # noqa: E402
 
 
 class StampWatch(object):
@@ -83,8 +84,8 @@ class TimeJumpTest(unittest.TestCase):
         # Its output (who joined it, and when) goes into a failure's message.
         clock_log = tempfile.TemporaryFile(mode='w+')
         clock = subprocess.Popen(
-            ['rosrun', 'rbx1_nav', 'sim_clock.py', '__name:=sim_clock',
-             '_speed:=%g' % speed, '_start_time:=%.3f' % back_to, '_members:=2'],
+            rosrun('rbx1_nav', 'sim_clock.py', '__name:=sim_clock',
+             '_speed:=%g' % speed, '_start_time:=%.3f' % back_to, '_members:=2'),
             stdout=clock_log, stderr=subprocess.STDOUT)
         try:
             # Wait a simulated second past the allowance, so a late restart

@@ -35,6 +35,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..'
 import link  # noqa: E402
 from master import wait_for_master  # noqa: E402
 from ports import free_port  # noqa: E402
+from rosrun import rosrun  # noqa: E402
 from test_two_hosts import (LINK_GRACE, PRECISE, PRECISE_END_DEG, PRECISE_END_MM,  # noqa: E402
                             SHORT_COURSE, TF_TIMEOUT, Lines, assert_precise_end, position,
                             reported, true_move)
@@ -120,10 +121,10 @@ def first_message(graph, topics, limit):
                     reason='no roscore: source a ROS workspace')
 def test_pose_ekf_and_odom_ekf_re_register_with_a_restarted_master(graph):
     core, _ = graph.start_master()
-    graph.start(['rosrun', 'rbx1_nav', 'fake_turtlebot.py', '_publish_tf:=false'])
-    ekfs = {'pose_ekf': graph.start(['rosrun', 'rbx1_nav', 'pose_ekf.py']),
-            'odom_ekf': graph.start(['rosrun', 'rbx1_nav', 'odom_ekf.py',
-                                     'input:=' + POSE, 'output:=odom_ekf'])}
+    graph.start(rosrun('rbx1_nav', 'fake_turtlebot.py', '_publish_tf:=false'))
+    ekfs = {'pose_ekf': graph.start(rosrun('rbx1_nav', 'pose_ekf.py')),
+            'odom_ekf': graph.start(rosrun('rbx1_nav', 'odom_ekf.py',
+                                            'input:=' + POSE, 'output:=odom_ekf'))}
     # A subscriber from before the restart: its stream must not stop.
     old = graph.start(['rostopic', 'echo', '-p', '/odom_ekf/header/seq'])
     old.wait_for(r'^\d+,\d+$', 30)
@@ -233,13 +234,13 @@ def start_course(graph, *extra):
     """The fake robot (real time), its ground truth, and a short course
     (``extra``: more of its parameters) under way; returns (robot, truth
     lines, course lines)."""
-    robot = graph.start(['rosrun', 'rbx1_nav', 'fake_turtlebot.py'])
+    robot = graph.start(rosrun('rbx1_nav', 'fake_turtlebot.py'))
     truth = graph.start(['rostopic', 'echo', '-p', '/ground_truth/pose/pose'])
     deadline = time.monotonic() + 30
     while position(truth) is None:
         assert time.monotonic() < deadline, 'no ground_truth:\n' + truth.text()
         time.sleep(0.05)
-    course = graph.start(['rosrun', 'rbx1_nav', 'odom_out_and_back.py'] + SHORT_COURSE
+    course = graph.start(rosrun('rbx1_nav', 'odom_out_and_back.py') + SHORT_COURSE
                          + list(extra))
     deadline = time.monotonic() + 30
     while math.hypot(*position(truth)) < 0.15:

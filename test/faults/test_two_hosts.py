@@ -19,6 +19,9 @@ import pytest
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import link  # noqa: E402
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'helpers'))
+from rosrun import rosrun  # noqa: E402
+
 # One at a time (they time real-time robots), beside the free-running
 # rostests in make test's second run.
 pytestmark = [pytest.mark.skipif(link.unavailable() is not None,
@@ -191,7 +194,7 @@ def start_robot(hosts):
     pipe = dict(stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True)
     core = Lines(hosts.run('robot', ['roscore', '-p', str(link.MASTER_PORT)], **pipe))
     core.wait_for('started core service')
-    robot = Lines(hosts.run('robot', ['rosrun', 'rbx1_nav', 'fake_turtlebot.py'], **pipe))
+    robot = Lines(hosts.run('robot', rosrun('rbx1_nav', 'fake_turtlebot.py'), **pipe))
     truth = Lines(hosts.run('robot', ['rostopic', 'echo', '-p',
                                       '/ground_truth/pose/pose'], **pipe))
     come_up(lambda: position(truth) is not None, [robot, truth], 'ground_truth')
@@ -199,7 +202,7 @@ def start_robot(hosts):
 
 
 def start_course(hosts, *extra):
-    proc = hosts.run('workstation', ['rosrun', 'rbx1_nav', 'odom_out_and_back.py']
+    proc = hosts.run('workstation', rosrun('rbx1_nav', 'odom_out_and_back.py')
                      + SHORT_COURSE + list(extra), stdout=subprocess.PIPE,
                      stderr=subprocess.STDOUT, universal_newlines=True)
     return proc, Lines(proc)
@@ -383,8 +386,8 @@ def start_fleet(hosts, robots):
     pipe = dict(stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True)
     core = Lines(hosts.run('robot', ['roscore', '-p', str(link.MASTER_PORT)], **pipe))
     core.wait_for('started core service')
-    fleet = Lines(hosts.run('robot', ['rosrun', 'rbx1_nav', 'fake_fleet.py',
-                                      '_robots:=[%s]' % ', '.join(robots)], **pipe))
+    fleet = Lines(hosts.run('robot', rosrun('rbx1_nav', 'fake_fleet.py',
+                                            '_robots:=[%s]' % ', '.join(robots)), **pipe))
     echo = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir,
                         'helpers', 'truth_echo.py')
     truth = Lines(hosts.run('robot', [sys.executable, echo] + robots, **pipe))
@@ -459,10 +462,10 @@ def test_twenty_percent_loss_precise_courses_ride_it_out(hosts):
     truth = start_fleet(hosts, robots)
     courses = []
     for robot in robots:
-        proc = hosts.run('workstation', [
-            'rosrun', 'rbx1_nav', 'odom_out_and_back.py', '__ns:=' + robot,
+        proc = hosts.run('workstation', rosrun(
+            'rbx1_nav', 'odom_out_and_back.py', '__ns:=' + robot,
             '/tf:=tf', '/tf_static:=tf_static', '_odom_frame:=%s/odom' % robot,
-            '_base_frame:=%s/base_footprint' % robot, '_tf_wait:=60']
+            '_base_frame:=%s/base_footprint' % robot, '_tf_wait:=60')
             + SHORT_COURSE + PRECISE + ['_legs:=1', '_link_grace:=%g' % LOSS_GRACE,
                                         # TCP may hold the last commands back
                                         # as long as the transform
@@ -588,8 +591,8 @@ def start_turtlebot2(hosts, export, **corrections):
         setup = on_host(hosts, 'robot', export, 'rosparam set /fake_turtlebot/%s %r'
                         % (name, value))
         assert setup.wait(60) == 0, setup.stdout.read()
-    driver = Lines(on_host(hosts, 'robot', export, 'rosrun rbx1_nav fake_turtlebot.py '
-                           'cmd_vel:=mobile_base/commands/velocity'))
+    driver = Lines(on_host(hosts, 'robot', export, ' '.join(rosrun(
+        'rbx1_nav', 'fake_turtlebot.py', 'cmd_vel:=mobile_base/commands/velocity'))))
     truth = Lines(on_host(hosts, 'robot', export, 'rostopic echo -p /ground_truth/pose/pose'))
     come_up(lambda: position(truth) is not None, [driver, truth], 'ground_truth')
     return truth

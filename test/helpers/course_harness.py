@@ -1,14 +1,13 @@
 """Shared plumbing for the out-and-back rostests (imported, not a node).
 
 ``CourseProcess`` starts a motion node (``odom_out_and_back.py`` by default)
-as ``rosrun`` does (:func:`node_path`: the same executable, found once), so
+as ``rosrun`` does (rosrun.node_path: the same executable, found once), so
 a test sees its exit status and its log lines.
 ``FakeRobot`` starts the simulator with given parameters, for tests that
 restart it. ``RobotWatch`` follows one robot's ``ground_truth`` (the simulator's true
 pose) and ``cmd_vel`` (what the course commanded), optionally in a namespace.
 Times are ROS times, so under /use_sim_time they are simulated seconds.
 """
-import functools
 import os
 import re
 import signal
@@ -17,7 +16,6 @@ import tempfile
 import threading
 import time
 
-import roslib.packages
 import rospkg
 import rospy
 from geometry_msgs.msg import Twist
@@ -27,6 +25,7 @@ from rosgraph_msgs.msg import Log
 from rbx1_nav.common.publish_ros import link
 from rbx1_nav.motion.command import pose_error
 from rbx1_nav.transform_utils import Pose2D, quat_to_angle
+from rosrun import node_path
 
 #: Wall seconds after which a wait for a live process gives up: a guard so
 #: a hung run fails instead of hanging, never a verdict on a slow machine
@@ -170,18 +169,6 @@ class RosoutWatch(TopicLog):
         wait_until(lambda: found.append(self.find(node, text)) or found[-1],
                    wall_limit)
         return found[-1].header.stamp if found[-1] else None
-
-
-@functools.lru_cache(maxsize=None)
-def node_path(script):
-    """The executable ``rosrun rbx1_nav SCRIPT`` starts, looked up once per
-    test process: rosrun looks it up at every start, for half a CPU second
-    (a population bench starts eight nodes a robot)."""
-    found = roslib.packages.find_node('rbx1_nav', script)
-    if not found:
-        raise AssertionError('rbx1_nav has no node %s: is the workspace built '
-                             'and sourced?' % script)
-    return found[0]
 
 
 class CourseProcess(object):

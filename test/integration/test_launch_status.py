@@ -18,6 +18,7 @@ import pytest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import test_second_robot  # noqa: E402
+from test_second_robot import rosrun  # noqa: E402
 
 Graph = test_second_robot.Graph
 pytestmark = test_second_robot.pytestmark
@@ -33,7 +34,7 @@ def graph(tmp_path):
 
 
 def launch_status(graph, *args):
-    return graph.run(['rosrun', 'rbx1_nav', 'launch_status.py', 'rbx1_nav'] + list(args),
+    return graph.run(rosrun('rbx1_nav', 'launch_status.py', 'rbx1_nav', *args),
                      timeout=HANG_GUARD)
 
 
@@ -122,7 +123,7 @@ def test_a_later_rosrun_runs_with_its_defaults(graph, tmp_path):
     truth = graph.start(['rostopic', 'echo', '-p', '/ground_truth'], 'truth')
     graph.wait_for(lambda: truth_rows(graph.output('truth')), 'ground truth', truth, 'truth')
     began = time.time()  # ROS time is the wall clock here (no /use_sim_time)
-    course = graph.start(['rosrun', 'rbx1_nav', 'odom_out_and_back.py'], 'course')
+    course = graph.start(rosrun('rbx1_nav', 'odom_out_and_back.py'), 'course')
     try:
         status = course.wait(HANG_GUARD)
     except subprocess.TimeoutExpired:

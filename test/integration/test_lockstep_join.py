@@ -22,6 +22,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, '..', 'helpers'))
 from master import HANG_GUARD, wait_for_master  # noqa: E402
 from ports import free_port  # noqa: E402
+from rosrun import rosrun  # noqa: E402
 sys.path.insert(0, os.path.join(HERE, '..', 'faults'))
 from test_two_hosts import Lines  # noqa: E402
 
@@ -73,7 +74,7 @@ def test_a_course_waits_for_a_live_owner_and_not_for_a_dead_one(tmp_path):
             subprocess.run(['rosparam', 'set', name, 'true'], env=env, check=True)
         owner = start([sys.executable, '-c', OWNER], env)
         procs.append(owner)
-        course = start(['rosrun', 'rbx1_nav', 'odom_out_and_back.py', '_tf_wait:=1.0'], env)
+        course = start(rosrun('rbx1_nav', 'odom_out_and_back.py', '_tf_wait:=1.0'), env)
         procs.append(course)
         # Past its 1 s wait, alive: still waiting, saying for whom.
         _, line = course.wait_for(WAITING)

@@ -17,6 +17,7 @@ import pytest
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'helpers'))
 import parameters_page  # noqa: E402
+from rosrun import rosrun  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -45,8 +46,8 @@ def test_every_node_file_is_on_the_page_but_the_helpers():
 
 def listed(path):
     """The parameters ``rosrun rbx1_nav NODE --help`` lists."""
-    proc = subprocess.run(['rosrun', 'rbx1_nav', os.path.basename(path),
-                           '--help'], stdout=subprocess.PIPE,
+    proc = subprocess.run(rosrun('rbx1_nav', os.path.basename(path), '--help'),
+                          stdout=subprocess.PIPE,
                           stderr=subprocess.STDOUT, universal_newlines=True,
                           timeout=60)
     assert proc.returncode == 0, proc.stdout

@@ -1,8 +1,8 @@
 """A course on a real robot loads nothing of simulated time's lockstep.
 
 A real-robot start, as the README's "On your real robot" types it: a
-master, the robot's driver (a plain `rosrun rbx1_nav fake_turtlebot.py`
-stands in: no /use_sim_time), then `rosrun rbx1_nav odom_out_and_back.py`
+master, the robot's driver (a plain fake_turtlebot.py stands in: no
+/use_sim_time), then `rosrun rbx1_nav odom_out_and_back.py`
 run to the end of its course. At its exit the course has loaded no
 lockstep module (only rbx1_nav.sim_time.stepping_ros, which found
 /lockstep off) and, in all, at most LINES lines of the package's modules.
@@ -26,6 +26,7 @@ WRAPPER = os.path.join(HERE, '..', '..', 'bench', 'modules_at_exit.py')
 sys.path.insert(0, HELPERS)
 from master import HANG_GUARD, wait_for_master  # noqa: E402
 from ports import free_port  # noqa: E402
+from rosrun import rosrun  # noqa: E402
 
 pytestmark = [
     pytest.mark.skipif(not shutil.which('rosrun') or 'ROS_PACKAGE_PATH' not in os.environ,
@@ -56,7 +57,7 @@ def test_a_course_on_a_real_robot_loads_no_lockstep_module(tmp_path):
     try:
         procs.append(_start(['roscore', '-p', str(port)], env, log))
         wait_for_master(env['ROS_MASTER_URI'], procs[0])
-        procs.append(_start(['rosrun', 'rbx1_nav', 'fake_turtlebot.py'], env, log))
+        procs.append(_start(rosrun('rbx1_nav', 'fake_turtlebot.py'), env, log))
         node = subprocess.run(['rospack', 'find', 'rbx1_nav'], env=env, check=True,
                               stdout=subprocess.PIPE, universal_newlines=True).stdout.strip()
         course = subprocess.run(

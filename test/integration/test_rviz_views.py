@@ -36,6 +36,7 @@ sys.path.insert(0, HELPERS)
 from rviz_screen import (BLUE, MIN_PIXELS, RED, RVIZ_ENV,  # noqa: E402
                          Processes, arrows_area, colour_mask, rviz_errors,
                          top_down_view, view_of, wait_for_picture)
+from rosrun import rosrun  # noqa: E402
 
 CONFIG = os.path.join(ROOT, 'sim.rviz')
 #: Frames a second RViz draws here: sim.rviz's 30 on software GL cost RViz
@@ -159,8 +160,8 @@ def test_sim_rviz_shows_odometry_drifting_from_ground_truth(tmp_path):
                 procs.log('truth'), procs.log('robot'))
             time.sleep(0.2)
         course = subprocess.run(
-            ['rosrun', 'rbx1_nav', 'odom_out_and_back.py', '_goal_distance:=1.0',
-             '_pause:=0.2', '_tf_wait:=100', '_tf_timeout:=10'],
+            rosrun('rbx1_nav', 'odom_out_and_back.py', '_goal_distance:=1.0',
+                   '_pause:=0.2', '_tf_wait:=100', '_tf_timeout:=10'),
             env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
             universal_newlines=True, timeout=180)
         assert course.returncode == 0, course.stdout[-3000:]

@@ -23,6 +23,7 @@ import pytest
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'helpers'))
 from master import HANG_GUARD, wait_for_master  # noqa: E402
 from ports import free_port  # noqa: E402
+from rosrun import rosrun  # noqa: E402
 
 pytestmark = pytest.mark.skipif(
     not shutil.which('roslaunch') or 'ROS_PACKAGE_PATH' not in os.environ,
@@ -137,7 +138,7 @@ def test_a_second_robot_is_refused_and_the_first_goes_on(graph, second):
 
 
 def test_a_shutdown_meant_for_another_node_is_refused(graph):
-    robot = graph.start(['rosrun', 'rbx1_nav', 'fake_turtlebot.py'], 'robot')
+    robot = graph.start(rosrun('rbx1_nav', 'fake_turtlebot.py'), 'robot')
     graph.wait_for(lambda: '/fake_turtlebot' in graph.nodes(), 'the robot', robot, 'robot')
     pid = graph.node_pid('/fake_turtlebot')
     master = xmlrpc.client.ServerProxy(graph.env['ROS_MASTER_URI'])

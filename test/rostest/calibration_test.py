@@ -27,6 +27,7 @@ import yaml
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from course_harness import (WALL_LIMIT, CourseProcess, FakeRobot, RobotWatch,  # noqa: E402
                             calibrate, course_end_error, wait_until)
+from rosrun import rosrun  # noqa: E402
 
 
 class CalibrationTest(unittest.TestCase):
@@ -73,8 +74,8 @@ class CalibrationTest(unittest.TestCase):
                 self.assertIn('ready', node.output)
                 name = node.node_name
                 dynparam = subprocess.run(
-                    ['rosrun', 'dynamic_reconfigure', 'dynparam', 'set', name,
-                     field, value], stdout=subprocess.PIPE,
+                    rosrun('dynamic_reconfigure', 'dynparam', 'set', name,
+                           field, value), stdout=subprocess.PIPE,
                     stderr=subprocess.STDOUT, universal_newlines=True, timeout=WALL_LIMIT)
                 self.assertEqual(dynparam.returncode, 0, dynparam.stdout)
                 line = '%s %s refused: ' % (field, float(value))

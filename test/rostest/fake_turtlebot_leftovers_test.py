@@ -1,10 +1,9 @@
 #!/usr/bin/env python3
-"""rostest: fake_turtlebot.py started by rosrun on a master with leftovers.
+"""rostest: fake_turtlebot.py started as rosrun does on a master with leftovers.
 
 Run by fake_turtlebot_leftovers.test: /use_sim_time and /lockstep are true
 with nothing on /clock, and /fake_turtlebot/rate is 30 from "an earlier
-run". The node, started as a user would (rosrun, no _rate:= on its command
-line), must warn about the missing clock after its 5 s wait (20 s of wall
+run". The node, started as a user would (no _rate:= on its command line), must warn about the missing clock after its 5 s wait (20 s of wall
 time allowed for start-up on a loaded machine), name the leftover rate,
 then say that nothing grants lockstep steps, naming /use_sim_time, once
 (its reminder comes a minute later: none in the next 12 s). It goes on
@@ -25,6 +24,7 @@ from nav_msgs.msg import Odometry
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from course_harness import CourseProcess, RosoutWatch, TopicLog, wait_until  # noqa: E402
+from rosrun import rosrun  # noqa: E402
 
 NODE = '/fake_turtlebot'
 ODOM_WINDOW = 2.0  # simulated s of odom counted once a clock runs
@@ -36,7 +36,7 @@ class FakeTurtlebotLeftoversTest(unittest.TestCase):
         log = RosoutWatch()
         # The stamps (ROS s) of the robot's odom, as they arrive.
         odom = TopicLog('/odom', Odometry, lambda msg: msg.header.stamp.to_sec())
-        node = subprocess.Popen(['rosrun', 'rbx1_nav', 'fake_turtlebot.py'])
+        node = subprocess.Popen(rosrun('rbx1_nav', 'fake_turtlebot.py'))
         sim_clock = None
         try:
             self.assertTrue(wait_until(lambda: log.find(NODE, 'from the parameter server'),

@@ -2,15 +2,17 @@
 """rostest: pose_ekf beside a driver that publishes its transform too, and
 a sensor that never comes (pose_ekf_beside_driver.test).
 
-The test starts each pose_ekf with rosrun and reads its output, so it sees
+The test starts each pose_ekf as rosrun does and reads its output, so it sees
 every line from the first, each with the ROS time it was logged at
 (simulated seconds); delays are measured from pose_ekf's start-up line.
 After its error or warning each pose_ekf must go on publishing, and end
 with status 0 on Ctrl-C.
 """
+import os
 import re
 import signal
 import subprocess
+import sys
 import threading
 import unittest
 
@@ -20,6 +22,9 @@ from geometry_msgs.msg import PoseWithCovarianceStamped
 from std_srvs.srv import Trigger
 from tf2_msgs.msg import TFMessage
 
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
+from rosrun import rosrun  # noqa: E402
+
 START_LINE = 'at its default (--help lists them)'  # the start-up line
 CONFLICT = 'also publishes the transform'
 # rospy's console format: "[LEVEL] [wall]: text" or "[LEVEL] [wall, ros]: text".
@@ -27,15 +32,15 @@ LOG_LINE = re.compile(r'^\[\s*(\w+)\]\s*\[([\d.]+)(?:,\s*([\d.]+))?\]:\s?(.*)$')
 
 
 class EkfProcess(object):
-    """pose_ekf.py under rosrun; its log lines as (level, ROS time, text)."""
+    """pose_ekf.py as rosrun starts it; its log lines as (level, ROS time, text)."""
 
     def __init__(self, ns, name, args):
         self.name = '/%s/%s' % (ns, name)
         self.lock = threading.Lock()
         self.lines = []
         self.proc = subprocess.Popen(
-            ['rosrun', 'rbx1_nav', 'pose_ekf.py', '__name:=' + name,
-             '__ns:=' + ns] + args.split(),
+            rosrun('rbx1_nav', 'pose_ekf.py', '__name:=' + name,
+                   '__ns:=' + ns, *args.split()),
             stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
             universal_newlines=True)
         self.reader = threading.Thread(target=self._read, daemon=True)

@@ -18,7 +18,9 @@ reads exactly the messages recorded up to each of its ticks, so the
 estimates are the same on every run, however busy the machine.
 """
 import math
+import os
 import subprocess
+import sys
 import threading
 import time
 import unittest
@@ -30,6 +32,9 @@ import rostest
 from geometry_msgs.msg import PoseWithCovarianceStamped
 
 from rbx1_nav.transform_utils import quat_to_angle
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
+from rosrun import rosrun  # noqa: E402
 
 TIME_END = 1368022016.0
 EKF_DURATION = 40.0
@@ -92,9 +97,9 @@ def player(bag, ns, start):
     """lockstep_play.py playing the bag's sensor topics into ``ns`` from
     ``start`` s into the bag."""
     return subprocess.Popen(
-        ['rosrun', 'rbx1_nav', 'lockstep_play.py', '__ns:=' + ns,
-         '__name:=play_bag', '_bag:=' + bag, '_start:=%r' % start,
-         '_topics:=' + ' '.join(TOPICS)])
+        rosrun('rbx1_nav', 'lockstep_play.py', '__ns:=' + ns,
+               '__name:=play_bag', '_bag:=' + bag, '_start:=%r' % start,
+               '_topics:=' + ' '.join(TOPICS)))
 
 
 class HuskyGpsTest(unittest.TestCase):
