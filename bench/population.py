@@ -111,7 +111,7 @@ def true_factors(robot):
     odom_linear_scale_correction, odom_angular_scale_correction (true /
     odometry, turning in place) and UMBmark's Ed. The physics robot's
     wheels slip and scrub as well (by a few tenths of a percent on carpet,
-    physics_umbmark_test.py), which the geometry leaves out."""
+    test_physics_umbmark.py), which the geometry leaves out."""
     mean = 2.0 / (1.0 / robot['left_wheel_radius_error']
                   + 1.0 / robot['right_wheel_radius_error'])
     return {'true_linear': mean, 'true_angular': mean / robot['wheel_base_error'],

@@ -64,8 +64,8 @@ def rostest_files(patterns=None):
 def matches(name, pattern, names=()):
     """A shell pattern the path ends with (``faults/*.test``), or a plain
     substring of the path; a pattern that is one of names (or the file
-    name of one) picks that name alone: ``umbmark.test`` is not
-    physics_umbmark.test."""
+    name of one) picks that name alone: ``courses.test`` is not
+    physics_courses.test."""
     if any(c in pattern for c in '*?['):
         return fnmatch.fnmatch(name, '*' + pattern)  # the end of the path
     if any(pattern in (n, os.path.basename(n)) for n in names):

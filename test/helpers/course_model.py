@@ -5,12 +5,18 @@ for one control period: what a graph under lockstep does when no message
 is late, so its true end matches to 0.1 mm and 0.01 deg.
 
 Used by test/rostest/lockstep_course_test.py and
-test/rostest/book_lines_test.py.
+test/rostest/book_lines_test.py; :func:`drive` (any course on any of the
+simulator's robots, as the runner drives it) by
+test/integration/test_physics_umbmark.py.
 """
 import math
 
 from rbx1_nav.sim.diff_drive import DiffDriveSim
 from rbx1_nav.motion.book import CourseConfig, OutAndBack
+from rbx1_nav.motion.settle import SETTLE_PARAMS, WAITING, Settle
+
+#: The runner's settle_time and settle_timeout, at their defaults.
+SETTLE = tuple(p.default for p in SETTLE_PARAMS)
 
 
 def reference_end_poses(course_params, courses=1):
@@ -46,3 +52,27 @@ def reference_end_pose(course_params):
     """The true end pose of one course from the origin (see
     :func:`reference_end_poses`)."""
     return reference_end_poses(course_params)[0]
+
+
+def drive(robot, course, now, period=0.05, breakaway=None):
+    """``course`` (rbx1_nav.motion.course.Course) on ``robot`` (a
+    simulator's robot: ``odom``, ``truth``, ``command(v, w, t)``,
+    ``fleet.step(t)``) from ``now`` (s), as the runner
+    (rbx1_nav.motion.runner_ros) drives it under lockstep: odometry read and
+    a command sent every ``period`` s, each held for one period; at the end
+    zero commanded until odometry stands still (rbx1_nav.motion.settle, at
+    the runner's defaults). ``breakaway``: the creep speeds the runner's
+    courses share. Returns (odometry's settled pose, the time reached)."""
+    if breakaway is not None:
+        course.breakaway = breakaway
+    settle = None
+    while settle is None or settle.update(robot.odom, now) == WAITING:
+        if settle is None:
+            command = course.update(robot.odom, now)
+            if course.done:
+                settle = Settle(robot.odom, now, *SETTLE)
+        linear, angular = (0.0, 0.0) if settle else (command.linear, command.angular)
+        robot.command(linear, angular, now)
+        now += period
+        robot.fleet.step(now)
+    return settle.pose, now
