@@ -2,8 +2,9 @@
 """Courses that must not say "Course complete": each ends with exit 1, the
 robot stopped, and one line naming the cause and the fix.
 
-Run by the course_guard_*.test files beside it, each under lockstep at
-full speed with the fake robot; ``~case`` picks the fault:
+Run by course_guards.test (driver, then typo, on one graph) and the
+course_guard_*.test files beside it, each under lockstep at full speed
+with the fake robot; ``~case`` picks the fault:
 
 * ``driver``: another node (this test) publishes zeros on the course's
   cmd_vel from before it starts (a warning only: the course drives on),

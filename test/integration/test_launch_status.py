@@ -56,7 +56,7 @@ def test_launch_status_exits_with_the_courses_status(graph, tmp_path):
     # roslaunch alone would exit 0. Real time, as a user with no robot has
     # it: the launch above left /use_sim_time true (the course would give up
     # for want of /clock instead).
-    graph.run(['rosparam', 'set', '/use_sim_time', 'false'])
+    graph.master.setParam('/use_sim_time', False)
     failed = launch_status(graph, 'odom_out_and_back.launch')
     assert failed.returncode == 1, failed.stdout[-4000:]
     # The course's own reason, not any failure (a traceback exits 1 too),
@@ -114,7 +114,7 @@ def test_a_later_rosrun_runs_with_its_defaults(graph, tmp_path):
     assert done.returncode == 0, done.stdout[-4000:]
     assert 'start_delay 20 s' in done.stdout  # the launch did set it
     left_delay = 20.0
-    names = graph.run(['rosparam', 'list']).stdout.split()
+    names = graph.master.getParamNames()
     assert not [n for n in names if n.startswith('/odom_out_and_back/')], names
 
     # A plain rosrun at real time, judged by the robot's ground truth.

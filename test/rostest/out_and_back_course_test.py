@@ -5,8 +5,7 @@ end pose.
 Used by courses.test (the course nodes on the ideal robot) and
 turtlebot2_remap.test. (The odometry course in the book's mode on the
 ideal robot is checked against the pure model by lockstep_course_test.py,
-in lockstep_1x.test, lockstep_max_stalled.test and
-out_and_back_base_link.test.)
+in lockstep_1x.test and lockstep_max_stalled.test, the latter on base_link.)
 
 ~courses is a list, one test case per entry, run in its order, each from
 where the previous one left the robot (a course that fails leaves the
