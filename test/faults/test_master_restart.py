@@ -37,8 +37,8 @@ from master import wait_for_master  # noqa: E402
 from ports import free_port  # noqa: E402
 from rosrun import rosrun  # noqa: E402
 from test_two_hosts import (LINK_GRACE, PRECISE, PRECISE_END_DEG, PRECISE_END_MM,  # noqa: E402
-                            SHORT_COURSE, TF_TIMEOUT, Lines, assert_precise_end, position,
-                            reported, true_move)
+                            SHORT_COURSE, TF_TIMEOUT, TRUTH_ECHO, Lines, assert_precise_end,
+                            position, reported, true_move)
 
 master_ros = pytest.importorskip('rbx1_nav.common.master_ros',
                                  reason='source a ROS workspace')
@@ -235,7 +235,7 @@ def start_course(graph, *extra):
     (``extra``: more of its parameters) under way; returns (robot, truth
     lines, course lines)."""
     robot = graph.start(rosrun('rbx1_nav', 'fake_turtlebot.py'))
-    truth = graph.start(['rostopic', 'echo', '-p', '/ground_truth/pose/pose'])
+    truth = graph.start(TRUTH_ECHO)
     deadline = time.monotonic() + 30
     while position(truth) is None:
         assert time.monotonic() < deadline, 'no ground_truth:\n' + truth.text()

@@ -120,14 +120,20 @@ class Lines(object):
                                             for _, line in self.lines) if m]
 
 
+#: The ground-truth recorder: ``/ x y yaw`` at each change of the robot's
+#: pose (cheaper than a rostopic echo of every message at 50 Hz).
+TRUTH_ECHO = [sys.executable, os.path.join(os.path.dirname(os.path.abspath(__file__)),
+                                           os.pardir, 'helpers', 'truth_echo.py')]
+
+
 def echoed_rows(lines):
-    """The rows (floats) of a ``rostopic echo -p .../pose/pose`` stream so
-    far: x, y, z and the orientation's x, y, z, w."""
+    """The rows (floats) of a :data:`TRUTH_ECHO` stream of one robot so
+    far: x, y (m) and yaw (rad)."""
     rows = []
     for _, line in lines.lines:
-        fields = line.split(',')
-        if len(fields) >= 8 and fields[0].isdigit():
-            rows.append([float(f) for f in fields[1:8]])
+        fields = line.split()
+        if len(fields) == 4 and fields[0] == '/':
+            rows.append([float(f) for f in fields[1:]])
     return rows
 
 
@@ -139,7 +145,7 @@ def echoed(lines):
 
 def planar(row):
     """x, y (m) and yaw (rad) of an :func:`echoed_rows` row."""
-    return row[0], row[1], 2.0 * math.atan2(row[5], row[6])
+    return tuple(row)
 
 
 def position(lines):
@@ -150,8 +156,7 @@ def position(lines):
 
 def heading(lines):
     """The last yaw (degrees) of the ground truth."""
-    row = echoed(lines)
-    return math.degrees(2.0 * math.atan2(row[5], row[6]))
+    return math.degrees(echoed(lines)[2])
 
 
 @pytest.fixture
@@ -195,8 +200,7 @@ def start_robot(hosts):
     core = Lines(hosts.run('robot', ['roscore', '-p', str(link.MASTER_PORT)], **pipe))
     core.wait_for('started core service')
     robot = Lines(hosts.run('robot', rosrun('rbx1_nav', 'fake_turtlebot.py'), **pipe))
-    truth = Lines(hosts.run('robot', ['rostopic', 'echo', '-p',
-                                      '/ground_truth/pose/pose'], **pipe))
+    truth = Lines(hosts.run('robot', TRUTH_ECHO, **pipe))
     come_up(lambda: position(truth) is not None, [robot, truth], 'ground_truth')
     return truth, robot
 
@@ -388,9 +392,7 @@ def start_fleet(hosts, robots):
     core.wait_for('started core service')
     fleet = Lines(hosts.run('robot', rosrun('rbx1_nav', 'fake_fleet.py',
                                             '_robots:=[%s]' % ', '.join(robots)), **pipe))
-    echo = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir,
-                        'helpers', 'truth_echo.py')
-    truth = Lines(hosts.run('robot', [sys.executable, echo] + robots, **pipe))
+    truth = Lines(hosts.run('robot', TRUTH_ECHO + robots, **pipe))
     come_up(lambda: {line.split()[0] for _, line in truth.lines} == set(robots),
             [fleet, truth], 'the ground truth of every robot')
     return truth
@@ -593,7 +595,7 @@ def start_turtlebot2(hosts, export, **corrections):
         assert setup.wait(60) == 0, setup.stdout.read()
     driver = Lines(on_host(hosts, 'robot', export, ' '.join(rosrun(
         'rbx1_nav', 'fake_turtlebot.py', 'cmd_vel:=mobile_base/commands/velocity'))))
-    truth = Lines(on_host(hosts, 'robot', export, 'rostopic echo -p /ground_truth/pose/pose'))
+    truth = Lines(on_host(hosts, 'robot', export, ' '.join(TRUTH_ECHO)))
     come_up(lambda: position(truth) is not None, [driver, truth], 'ground_truth')
     return truth
 
