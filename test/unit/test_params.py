@@ -7,7 +7,7 @@ from hypothesis import given, strategies as st
 from rbx1_nav.common.params import (POSITIVE, bounds, check_all, command_line, flag, frame,
                                     integer, leftovers, number, param, raw, start_text, text)
 from rbx1_nav.common.params_help import markdown, usage
-from rbx1_nav.common.params_lists import names, number_list
+from rbx1_nav.common.params_lists import names, number_list, pairs
 
 finite = st.floats(allow_nan=False, allow_infinity=False)
 
@@ -174,6 +174,25 @@ def test_number_list_converts_each_item():
 def test_number_list_rejects_with_the_parameter_and_index(bad, message):
     with pytest.raises(ValueError, match=message):
         number_list('~d', bad, 3, minimum=0.0, allow_zero=False)
+
+
+# --- pairs (umbmark.py's ~measurements and ~odometry) -------------------------
+
+def test_pairs_converts_each_pair_and_empty_is_none():
+    assert pairs('~m', [[0.01, '-2e-3'], (0, 1)]) == [(0.01, -0.002), (0.0, 1.0)]
+    assert pairs('~m', '') == [] and pairs('~m', []) == []
+
+
+@pytest.mark.parametrize('bad,message', [
+    ('0.1 0.2', r'~m must be a list of \[x, y\] pairs of numbers'),
+    ([[0.1, 0.2, 0.3]], r'~m must be a list of \[x, y\] pairs of numbers'),
+    ([0.1, 0.2], r'~m must be a list of \[x, y\] pairs of numbers'),
+    ([[0.01, math.nan], [0, 0]], r'~m\[0\] must be a finite number'),
+    ([[0, 0], ['x', 0]], r'~m\[1\] must be a number'),
+])
+def test_pairs_rejects_with_the_parameter_and_index(bad, message):
+    with pytest.raises(ValueError, match=message):
+        pairs('~m', bad)
 
 
 def test_range_message_mentions_zero_only_when_it_is_in_range():
