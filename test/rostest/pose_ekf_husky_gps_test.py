@@ -8,9 +8,12 @@ robot_pose_ekf/odom_combined stamped before 1368022016.0 and expects it at
 0.801634) within 0.005 (yaw -73.42 deg, about 0.7 deg); it also wants more
 than 200 estimates spanning 32 to 52 s, the first within 2.5 s of the first
 odometry. Each late-started pose_ekf (~late_starts: namespace -> seconds
-into the bag) gets the bag's /encoder, /imu_data and /gps from that time
-on, from its own player; their poses at the last stamp they all published
-before the end time must agree within 1 cm and 0.2 deg.
+into the bag; ~gps_frame_rotation) gets the bag's /encoder, /imu_data and
+/gps from that time on, from its own player; its pose at the last stamp
+it published before the end time must agree within 1 cm and 0.2 deg with
+the same filter's replaying the whole bag without ROS
+(bench/pose_ekf_husky.py, as test/unit/test_pose_ekf_husky.py does for
+starts 0, 1.5 and 3 s into it).
 
 The bag plays in lockstep (lockstep_play.py, one player per pose_ekf,
 started here once every pose_ekf and this node listen): each pose_ekf
@@ -31,10 +34,14 @@ import rospy
 import rostest
 from geometry_msgs.msg import PoseWithCovarianceStamped
 
+from rbx1_nav.estimation.fusion import GyroOdomFusion
 from rbx1_nav.transform_utils import quat_to_angle
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from rosrun import rosrun  # noqa: E402
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', '..', 'bench'))
+import pose_ekf_husky as husky  # noqa: E402
 
 TIME_END = 1368022016.0
 EKF_DURATION = 40.0
@@ -171,25 +178,26 @@ class HuskyGpsTest(unittest.TestCase):
         # any playback speed.
         self.assertGreater(len(before), 200, report)
 
-    def test_started_late_same_answer(self):
-        common = set.intersection(*(
-            set(s for s in est.stamps() if s < TIME_END)
-            for est in self.late.values()))
-        self.assertTrue(common, 'no stamp common to the late starters')
-        end = max(common)
-        poses = {ns: est.poses[end][:3] for ns, est in self.late.items()}
-        text = 'at stamp %.3f: %s' % (end, '; '.join(
-            '%s (%.4f, %.4f) m yaw %.3f deg' % (ns, p[0], p[1],
-                                                math.degrees(p[2]))
-            for ns, p in sorted(poses.items())))
-        print(text, flush=True)
-        first = poses[min(poses)]
-        for pose in poses.values():
-            self.assertLess(math.hypot(pose[0] - first[0],
-                                       pose[1] - first[1]), AGREE_M, text)
+    def test_started_late_same_answer_as_without_ros(self):
+        offline = husky.replay(
+            GyroOdomFusion(gps_used=True, **husky.MODES['gps_frame_rotation']),
+            husky.read_bag(rospy.get_param('~bag')))
+        offline = {round(stamp, 6): pose for stamp, pose, _ in offline}
+        for ns, estimates in sorted(self.late.items()):
+            common = [s for s in estimates.stamps()
+                      if s < TIME_END and round(s, 6) in offline]
+            self.assertTrue(common, '%s: no stamp in common with the replay' % ns)
+            end = common[-1]
+            pose, replayed = estimates.poses[end][:3], offline[round(end, 6)]
+            text = ('%s at stamp %.3f: (%.4f, %.4f) m yaw %.3f deg; without ROS from '
+                    'the start (%.4f, %.4f) m yaw %.3f deg' % (
+                        ns, end, pose[0], pose[1], math.degrees(pose[2]),
+                        replayed[0], replayed[1], math.degrees(replayed[2])))
+            print(text, flush=True)
+            self.assertLess(math.hypot(pose[0] - replayed[0], pose[1] - replayed[1]),
+                            AGREE_M, text)
             self.assertLess(abs(math.degrees(math.remainder(
-                pose[2] - first[2], 2.0 * math.pi))), AGREE_DEG, text)
-
+                pose[2] - replayed[2], 2.0 * math.pi))), AGREE_DEG, text)
 
 if __name__ == '__main__':
     rospy.init_node('pose_ekf_husky_gps_test')
