@@ -7,10 +7,14 @@ launch that starts a robot sets /use_sim_time."""
 import glob
 import os
 import shutil
+import sys
 from xml.etree import ElementTree
 
 import pytest
 import yaml
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'helpers'))
+import launch_reading  # noqa: E402
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), '..', '..'))
 RVIZ = sorted(glob.glob(os.path.join(ROOT, 'rviz', '*.rviz')))
@@ -94,15 +98,10 @@ def test_a_node_that_ends_its_launch_ends_it_cleanly_on_success(path):
 
 
 def dump_params(launch, *args):
-    """The parameters ``roslaunch --dump-params rbx1_nav LAUNCH ARGS`` lists,
-    read with roslaunch's own loader in this process (a roslaunch process
-    per launch cost about 0.4 CPU s)."""
+    """The parameters ``roslaunch --dump-params rbx1_nav LAUNCH ARGS`` lists."""
     if not shutil.which('roslaunch') or 'ROS_PACKAGE_PATH' not in os.environ:
         pytest.skip('needs a sourced ROS workspace (make test sources one)')
-    import roslaunch.config
-    config = roslaunch.config.load_config_default(
-        [(os.path.join(ROOT, 'launch', launch), list(args))], None)
-    return {name: param.value for name, param in config.params.items()}
+    return launch_reading.params(launch, *args)
 
 
 @pytest.mark.parametrize('args, sim_time', [
