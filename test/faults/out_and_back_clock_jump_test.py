@@ -22,7 +22,7 @@ from nav_msgs.msg import Odometry
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from course_harness import (CourseProcess, RobotWatch,  # noqa: E402
-                            is_zero, wait_under_way, wait_until)
+                            is_zero, kill_node, wait_under_way, wait_until)
 from rosrun import rosrun  # noqa: E402
 
 
@@ -44,7 +44,7 @@ class ClockJumpTest(unittest.TestCase):
             # Moving, and late enough that the new clock's start is > 0.
             wait_under_way(self, watch, start, course, also=lambda: (
                 watch.truth.header.stamp.to_sec() > jump + 1.0))
-            subprocess.check_call(['rosnode', 'kill', '/sim_clock'])
+            kill_node('/sim_clock')
             back_to = watch.truth.header.stamp.to_sec() - jump
             killed = len(stamps)
             clock = subprocess.Popen(

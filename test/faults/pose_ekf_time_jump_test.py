@@ -23,7 +23,7 @@ from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
-from course_harness import RosoutWatch, wait_until  # noqa: E402
+from course_harness import RosoutWatch, kill_node, wait_until  # noqa: E402
 from rosrun import rosrun  # noqa: E402
 
 
@@ -73,7 +73,7 @@ class TimeJumpTest(unittest.TestCase):
             lambda: (fused.latest() or 0.0) > jump + 1.0),
             'no odom_combined past %.1f s of simulated time' % (jump + 1.0))
         marks = fused.mark(), odom.mark()
-        subprocess.check_call(['rosnode', 'kill', '/sim_clock'])
+        kill_node('/sim_clock')
         before = fused.latest()
         back_to = before - jump
         new_clock = before - jump / 2  # stamps below this are the new clock's

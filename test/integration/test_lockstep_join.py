@@ -17,6 +17,7 @@ import sys
 import time
 
 import pytest
+import rosgraph
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, '..', 'helpers'))
@@ -70,8 +71,9 @@ def test_a_course_waits_for_a_live_owner_and_not_for_a_dead_one(tmp_path):
         core = start(['rosmaster', '--core', '-p', str(port)], env)
         procs.append(core)
         wait_for_master(env['ROS_MASTER_URI'], core.proc, core.text)
+        master = rosgraph.Master('/test_lockstep_join', master_uri=env['ROS_MASTER_URI'])
         for name in ('/use_sim_time', '/lockstep'):
-            subprocess.run(['rosparam', 'set', name, 'true'], env=env, check=True)
+            master.setParam(name, True)
         owner = start([sys.executable, '-c', OWNER], env)
         procs.append(owner)
         course = start(rosrun('rbx1_nav', 'odom_out_and_back.py', '_tf_wait:=1.0'), env)
