@@ -183,6 +183,14 @@ def scatter(errors, cg):
     return Scatter(n, sd, se, distance / se)
 
 
+def supports(scatters):
+    """Whether clusters of these :class:`Scatter` support a correction: a
+    centre of gravity of more than one run farther from zero than
+    :func:`critical` standard errors, in either direction."""
+    return any(spread.runs > 1 and spread.distance > critical(spread.runs)
+               for spread in scatters)
+
+
 def runs_needed(result, most=1000):
     """About how many runs each way would make a systematic error of the
     size measured stand out from the scatter measured: the fewer of the two
@@ -273,11 +281,9 @@ def analyse(cw, ccw, side, wheel_separation):
     alpha = math.pi / 2.0 * (1.0 - 1.0 / eb)
     beta = 2.0 * side * (ed - 1.0) / (ed + 1.0) / (eb * wheel_separation)
     scatters = scatter(cw, cg_cw), scatter(ccw, cg_ccw)
-    supported = any(spread.runs > 1 and spread.distance > critical(spread.runs)
-                    for spread in scatters)
     return Result(side, wheel_separation, cw, ccw, cg_cw, cg_ccw, float(e_max),
                   float(alpha), float(beta), float(ed), float(eb), *scatters,
-                  supported)
+                  supports(scatters))
 
 
 def analyse_runs(odometry, measured, runs, side, wheel_separation):
