@@ -101,8 +101,9 @@ class LockstepCourseTest(unittest.TestCase):
                 self.assertIn(text, course.output)
         finally:
             if stalls:
-                print('RESULT %d stalls of the robot, sim_clock and the course'
-                      % stalls.stop())
+                # Their number follows the wall clock: a figure no run repeats.
+                print('RESULT %d stalls in wall time of the robot, sim_clock and the '
+                      'course' % stalls.stop())
             course.cleanup()
         final = watch.pose()
         dx, dy = final.x - expected.x, final.y - expected.y
