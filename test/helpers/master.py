@@ -1,5 +1,7 @@
-"""Waiting for a test's own master (imported, not a node)."""
+"""Waiting for a test's own master, and asking it for a node (imported,
+not a node)."""
 import time
+import xmlrpc.client
 
 import rosgraph
 
@@ -20,3 +22,13 @@ def wait_for_master(uri, roscore, output=lambda: ''):
             'roscore alive but no master at %s after %.0f s:\n%s' % (uri, HANG_GUARD, output()))
         time.sleep(0.05)
     return time.monotonic() - started
+
+
+def node_pid(master, name):
+    """The process id node ``name`` gives when asked (``rosnode info``'s
+    Pid, and ``rosnode ping``'s question): it answers. ``master``: a
+    rosgraph.Master."""
+    node = xmlrpc.client.ServerProxy(master.lookupNode(name))
+    code, message, pid = node.getPid(master.caller_id)
+    assert code == 1, (name, message)
+    return pid

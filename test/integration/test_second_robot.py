@@ -22,7 +22,7 @@ import pytest
 import rosgraph
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'helpers'))
-from master import HANG_GUARD, wait_for_master  # noqa: E402
+from master import HANG_GUARD, node_pid, wait_for_master  # noqa: E402
 from ports import free_port  # noqa: E402
 from rosrun import rosrun  # noqa: E402
 
@@ -82,12 +82,7 @@ class Graph(object):
         return {node for entries in state for _, nodes in entries for node in nodes}
 
     def node_pid(self, name):
-        """The process id node ``name`` gives (``rosnode info``'s Pid, and
-        ``rosnode ping``'s question): it answers."""
-        node = xmlrpc.client.ServerProxy(self.master.lookupNode(name))
-        code, message, pid = node.getPid(self.master.caller_id)
-        assert code == 1, (name, message)
-        return pid
+        return node_pid(self.master, name)
 
     def follow_x(self, topic='/ground_truth'):
         """A recorder of the x of ``topic``'s pose; :meth:`last_x` reads it."""

@@ -27,8 +27,8 @@ import sys
 import threading
 import time
 import unittest
-import xmlrpc.client
 
+import rosgraph
 import rospy
 import rostest
 
@@ -37,17 +37,12 @@ from course_harness import (CourseProcess, RobotWatch,  # noqa: E402
                             check_completed_course)
 
 from course_model import reference_end_pose  # noqa: E402
+from master import node_pid  # noqa: E402
 from rbx1_nav.transform_utils import normalize_angle  # noqa: E402
 
 #: Seed of the stalls: which process, when and how long. The end pose must
 #: not depend on it (it is the load's stand-in), so any seed would do.
 STALL_SEED = 1
-
-
-def node_pid(name):
-    """The process id of node ``name``, asked of the node itself."""
-    uri = rospy.get_master().lookupNode(name)[2]
-    return xmlrpc.client.ServerProxy(uri).getPid(rospy.get_name())[2]
 
 
 class Stalls(object):
@@ -93,8 +88,9 @@ class LockstepCourseTest(unittest.TestCase):
         course = CourseProcess(params=params)
         stalls = None
         if rospy.get_param('~stalls', False):
-            stalls = Stalls([node_pid('/fake_turtlebot'), node_pid('/sim_clock'),
-                             course.proc.pid])
+            master = rosgraph.Master(rospy.get_name())
+            stalls = Stalls([node_pid(master, '/fake_turtlebot'),
+                             node_pid(master, '/sim_clock'), course.proc.pid])
         try:
             check_completed_course(self, watch, course, start)
             for text in rospy.get_param('~expect_in_output', []):
