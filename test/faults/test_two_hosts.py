@@ -127,13 +127,13 @@ TRUTH_ECHO = [sys.executable, os.path.join(os.path.dirname(os.path.abspath(__fil
 
 
 def echoed_rows(lines):
-    """The rows (floats) of a :data:`TRUTH_ECHO` stream of one robot so
-    far: x, y (m) and yaw (rad)."""
+    """The rows of a :data:`TRUTH_ECHO` stream of one robot so far: (x, y
+    (m), yaw (rad))."""
     rows = []
     for _, line in lines.lines:
         fields = line.split()
         if len(fields) == 4 and fields[0] == '/':
-            rows.append([float(f) for f in fields[1:]])
+            rows.append(tuple(float(f) for f in fields[1:]))
     return rows
 
 
@@ -141,11 +141,6 @@ def echoed(lines):
     """The last row of :func:`echoed_rows`, or None."""
     rows = echoed_rows(lines)
     return rows[-1] if rows else None
-
-
-def planar(row):
-    """x, y (m) and yaw (rad) of an :func:`echoed_rows` row."""
-    return tuple(row)
 
 
 def position(lines):
@@ -270,7 +265,7 @@ def true_move(truth):
     """(dx mm, dy mm, dyaw deg) of the ground truth ``truth`` (echoed
     lines) from its first row to its last."""
     rows = echoed_rows(truth)
-    start, end = planar(rows[0]), planar(rows[-1])
+    start, end = rows[0], rows[-1]
     return (1000.0 * (end[0] - start[0]), 1000.0 * (end[1] - start[1]),
             angle_deg(math.degrees(end[2]), math.degrees(start[2])))
 
@@ -605,10 +600,10 @@ def calibrate(hosts, export, run, answer, measure, truth):
     the value ``measure(start, end)`` gives from the ground truth's rows (the
     tape or the protractor); returns the printed factor."""
     node = Lines(on_host(hosts, 'workstation', export, run))
-    start = planar(echoed(truth))
+    start = echoed(truth)
     node.wait_for('odometry says')
     time.sleep(1.0)  # the still robot's truth, over the link
-    value = measure(start, planar(echoed(truth)))
+    value = measure(start, echoed(truth))
     said = on_host(hosts, 'workstation', export,
                    re.sub(r'[\d.]+$', '%.4f' % value, answer))
     assert said.wait(60) == 0, said.stdout.read()
@@ -652,11 +647,11 @@ def test_the_readmes_real_robot_lines_on_a_turtlebot2_over_two_hosts(hosts):
         proc.wait(30)
     truth = start_turtlebot2(hosts, robot_export, odom_linear_scale_correction=linear_factor,
                              odom_angular_scale_correction=angular_factor)
-    start = planar(echoed(truth))
+    start = echoed(truth)
     run = Lines(on_host(hosts, 'workstation', laptop_export, course))
     status = run.proc.wait(180)
     time.sleep(1.0)  # the still robot's truth, over the link
-    end = planar(echoed(truth))
+    end = echoed(truth)
     off = (1000.0 * math.hypot(end[0] - start[0], end[1] - start[1]),
            angle_deg(math.degrees(end[2]), math.degrees(start[2])))
     print('RESULT rehearsal: factors %.4f and %.4f; the precise course ended %.1f mm and '

@@ -12,20 +12,21 @@ def _files(launch, args):
     return [(os.path.join(ROOT, 'launch', launch), list(args))]
 
 
+def _config(launch, args):
+    import roslaunch.config
+    return roslaunch.config.load_config_default(_files(launch, args), None, verbose=False,
+                                                assign_machines=False)
+
+
 def params(launch, *args):
     """{name: value} of every parameter the launch sets (--dump-params)."""
-    import roslaunch.config
-    config = roslaunch.config.load_config_default(_files(launch, args), None, verbose=False)
-    return {name: param.value for name, param in config.params.items()}
+    return {name: param.value for name, param in _config(launch, args).params.items()}
 
 
 def nodes(launch, *args):
     """The resolved name of every node the launch starts (--nodes)."""
-    import roslaunch.config
     import roslaunch.node_args
-    config = roslaunch.config.load_config_default(_files(launch, args), None, verbose=False,
-                                                  assign_machines=False)
-    return roslaunch.node_args.get_node_list(config)
+    return roslaunch.node_args.get_node_list(_config(launch, args))
 
 
 def node_command(node, launch, *args):

@@ -1,7 +1,7 @@
 """``rosrun PACKAGE EXECUTABLE ARGS`` as a command line that skips rosrun's
-package search: rosrun runs two catkin_find processes at every start (half
-a CPU second, 10 CPU s over the suite), then execs the same file with the
-same arguments. Tests whose claim is the typed line itself (the README's,
+package search: rosrun runs two catkin_find processes at every start (0.3
+CPU s: a node's --help costs 0.46 through rosrun, 0.16 without), then
+execs the same file with the same arguments. Tests whose claim is the typed line itself (the README's,
 the book's, a terminal's) still type rosrun."""
 import functools
 
