@@ -9,6 +9,7 @@ clock-bound tests leave and cannot make them fall behind.
 """
 import importlib
 import os
+import sys
 
 import pytest
 
@@ -16,6 +17,11 @@ import pytest
 # have: importing rbx1_nav sets OPENBLAS_NUM_THREADS and the like, and a
 # test importing numpy first must not start the spinning threads either.
 importlib.import_module('rbx1_nav')
+
+# roscore.xml's parameters answered once for the whole run, not by two
+# rosversion processes at every launch (test/helpers/ros_etc.py).
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), 'helpers'))
+importlib.import_module('ros_etc').use_answered_etc()
 
 NORMAL_PRIORITY = {'free_running', 'two_hosts'}
 LOW_PRIORITY = 5
