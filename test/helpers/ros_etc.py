@@ -47,7 +47,9 @@ def answered_etc(source, target):
 def use_answered_etc():
     """Point ROS_ETC_DIR, for this process and what it starts, at an
     answered copy of the current one (removed at exit); nothing to do when
-    its roscore.xml runs no command (a copy made by a parent process)."""
+    its roscore.xml runs no command (a copy made by a parent process), and
+    ROS_ETC_DIR left as it was when a command fails (roslaunch will say
+    why)."""
     source = rospkg.get_etc_ros_dir()
     try:
         if not command_params(ElementTree.parse(os.path.join(source, 'roscore.xml'))):
@@ -56,5 +58,8 @@ def use_answered_etc():
         return  # roslaunch falls back to its own copy: leave it be
     target = tempfile.mkdtemp(prefix='rbx1_nav_etc_ros_')
     atexit.register(shutil.rmtree, target, True)
-    answered_etc(source, target)
+    try:
+        answered_etc(source, target)
+    except (OSError, subprocess.CalledProcessError):
+        return
     os.environ['ROS_ETC_DIR'] = target

@@ -47,3 +47,11 @@ def test_a_directory_without_commands_is_used_as_it_is(tmp_path, monkeypatch):
     monkeypatch.setenv('ROS_ETC_DIR', str(tmp_path))
     ros_etc.use_answered_etc()
     assert os.environ['ROS_ETC_DIR'] == str(tmp_path)
+
+
+def test_a_command_that_fails_leaves_the_directory_as_it_was(tmp_path, monkeypatch):
+    (tmp_path / 'roscore.xml').write_text(
+        '<launch><param name="a" command="no_such_command_here"/></launch>')
+    monkeypatch.setenv('ROS_ETC_DIR', str(tmp_path))
+    ros_etc.use_answered_etc()
+    assert os.environ['ROS_ETC_DIR'] == str(tmp_path)
