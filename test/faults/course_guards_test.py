@@ -2,7 +2,7 @@
 """Courses that must not say "Course complete": each ends with exit 1, the
 robot stopped, and one line naming the cause and the fix.
 
-Run by course_guards.test (driver, then typo, on one graph) and the
+Run by course_guards.test (driver, second_course, then typo, on one graph) and the
 course_guard_*.test files beside it, each under lockstep at full speed
 with the fake robot; ``~case`` picks the fault:
 
@@ -15,12 +15,16 @@ with the fake robot; ``~case`` picks the fault:
   the other;
 * ``jump``: the fake robot publishes no tf; this test relays its odometry
   to tf, then adds 3 m to it once the robot is under way;
+* ``second_course``: a course (nav_square) started while another
+  (odom_out_and_back) drives the robot; the second must send nothing and
+  exit 1 saying it left the robot to the first, which ends where the pure
+  model of it alone ends;
 * ``typo``: ``_goal_distnace:=0.5`` on the command line refuses to move;
   the same typo left on the master only warns (the course runs); the
   .test also launches a node with the typo as a ``<param>``, which
   refuses too.
 
-In driver, two_publishers and jump this test is a lockstep member, with
+In driver, second_course, two_publishers and jump this test is a lockstep member, with
 ticks of its own as a teleop node's at 10 Hz (``hold_ticks``): time waits
 for it, so the course cannot end before the test has heard it and looked
 (at full speed a course takes half a wall second, less than this node may
@@ -32,6 +36,9 @@ import sys
 import threading
 import unittest
 
+import math
+
+import rosgraph
 import rospy
 import rostest
 import tf2_ros
@@ -41,12 +48,18 @@ from nav_msgs.msg import Odometry
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from course_harness import (CourseProcess, RosoutWatch, RobotWatch,  # noqa: E402
                             is_zero, launched_node_status, wait_sim, wait_until)
+from course_model import reference_end_pose  # noqa: E402
+from rbx1_nav.msg import LockstepReport  # noqa: E402
+from rbx1_nav.transform_utils import normalize_angle  # noqa: E402
 from rbx1_nav.sim_time import member_ros as lockstep  # noqa: E402
 from rbx1_nav.sim_time.member import ALIGN, aligned  # noqa: E402
 from rbx1_nav.common.publish_ros import to_ns  # noqa: E402
 
 #: A short course: one leg.
 SHORT = {'legs': 1, 'goal_distance': 0.5, 'tf_timeout': 5.0}
+#: A course's first line, logged once it has simulated time.
+STARTED = 'every parameter at its default'
+
 
 
 class Commands(object):
@@ -163,11 +176,86 @@ class CourseGuardsTest(unittest.TestCase):
         self.assertIn('%s also publishes on /cmd_vel' % me, out)  # the warning
         self.assertIn('%s commanded the robot on /cmd_vel (0.1 m/s, 0 rad/s) '
                       'while this course drove it' % me, line)
-        self.assertIn('Stopped the robot. Fix: stop the other node (rosnode '
-                      'kill %s) or remap' % me, line)
+        # This node also takes /cmd_vel (it hears the commands), as a driver's
+        # process hosting a multiplexer does: killing it could kill the driver.
+        self.assertIn('Stopped the robot. Fix: %s also takes this topic: most likely the '
+                      'robot\'s velocity multiplexer' % me, line)
+        self.assertIn('cmd_vel:=/cmd_vel_mux/input/navi', line)
+        self.assertNotIn('rosnode kill', out)
         self.assertNotIn('Course complete', out)
         self.assertTrue(commands.motion_from(course.node_name), 'never drove')
         self.assert_stopped_by(course, commands, watch)
+
+    # -- a second course while one drives ------------------------------------------
+    def check_second_course(self):
+        watch = RobotWatch()
+        commands = Commands('cmd_vel')
+        reporters = set()  # lockstep members heard reporting
+        rospy.Subscriber(lockstep.REPORT_TOPIC, LockstepReport, lambda msg: reporters.add(
+            msg._connection_header['callerid']), queue_size=100)
+        start = watch.wait_for_truth()
+        member = lockstep.Member()
+        first = self.course_in_lockstep(member, dict(params=SHORT))
+        second = []
+
+        def clock_subscribed(node):
+            return node in dict(rosgraph.Master(rospy.get_name()).getSystemState()[1]).get(
+                '/clock', ())
+
+        def at_tick():
+            """Time waits at each tick while the second course starts, but for the ticks
+            that bring it its first /clock; then until it takes part in lockstep, so it
+            listens while the first drives however slowly it starts."""
+            if not second:
+                if watch.moved_since(start) < 0.1:
+                    return False
+                second.append(CourseProcess(script='nav_square.py'))
+            course = second[0]
+            if course.node_name in reporters or not course.running():
+                return False
+            self.assertTrue(wait_until(lambda: clock_subscribed(course.node_name)
+                                       or not course.running()), course.output)
+            if not wait_until(lambda: STARTED in course.output or not course.running(), 0.2):
+                return False  # a tick, and /clock with it
+            self.assertTrue(wait_until(lambda: course.node_name in reporters
+                                       or not course.running()), course.output)
+            return False
+        try:
+            self.hold_ticks(member, first, commands, watch, at_tick)
+            member.leave()
+            status = first.wait()
+            self.assertTrue(second, 'the first course ended before the robot moved 0.1 m:\n'
+                            + first.output)
+            refused = second[0].wait()
+        finally:
+            member.leave()
+            first.cleanup()
+            for course in second:
+                course.cleanup()
+        line = self.one_error_line(second[0], 'did not start')
+        print('RESULT second_course exit=%d: %s' % (refused, line))
+        self.assertEqual(refused, 1, second[0].output)
+        self.assertIn('nav_square: did not start: /odom_out_and_back is driving the robot on '
+                      '/cmd_vel (', line)
+        self.assertIn('so this course left the robot to it and sent nothing. Run this again '
+                      'when that course has ended; if it is stale (its terminal gone), stop it '
+                      'first: rosnode kill /odom_out_and_back', line)
+        self.assertNotIn('Course complete', second[0].output)
+        self.assertEqual([m for who, m in commands.heard if who == second[0].node_name], [])
+        # The first drove on and ended where it ends alone (the pure model; lockstep: 0.1 mm).
+        self.assertEqual(status, 0, first.output)
+        self.assertIn('Course complete', first.output)
+        self.assertTrue(wait_until(watch.still), 'robot still moving after the course')
+        end, alone = watch.pose(), reference_end_pose(SHORT)
+        dx, dy = end.x - start.x, end.y - start.y
+        c, s = math.cos(start.yaw), math.sin(start.yaw)
+        along, across = c * dx + s * dy, -s * dx + c * dy
+        error = math.hypot(along - alone.x, across - alone.y)
+        turn = math.degrees(abs(normalize_angle(end.yaw - start.yaw - alone.yaw)))
+        print('RESULT second_course: the first ended %.4f mm, %.4f deg from alone'
+              % (error * 1e3, turn))
+        self.assertLess(error, 1e-4)
+        self.assertLess(turn, 0.01)
 
     # -- two robots, one transform -------------------------------------------------
     def check_two_publishers(self):

@@ -15,7 +15,8 @@ entry has ``name`` (its case's), ``position_tolerance`` (m) and
 (odom_out_and_back.py by default; every one of these courses ends where
 it began), ``course_params`` (dict), its private parameters,
 ``remaps`` (dict), its topic remaps, ``expect_in_output``, strings that
-must appear in its log, and ``expect_status``. A case passes if the node
+must appear in its log, ``expect_not_in_output``, strings that must not,
+and ``expect_status``. A case passes if the node
 exits 0 and the simulator's ground_truth ends within the tolerances of
 where that course started, with the robot stopped; with
 ``expect_status`` not 0, if the node exits with it and the robot never
@@ -35,7 +36,7 @@ from course_harness import (CourseProcess, RobotWatch,  # noqa: E402
                             check_completed_course)
 
 KEYS = ('node', 'course_params', 'remaps', 'position_tolerance',
-        'heading_tolerance', 'expect_in_output', 'expect_status')
+        'heading_tolerance', 'expect_in_output', 'expect_not_in_output', 'expect_status')
 
 
 def courses():
@@ -69,6 +70,8 @@ class CourseTest(unittest.TestCase):
             course.cleanup()
         for text in entry.get('expect_in_output', []):
             self.assertIn(text, course.output)
+        for text in entry.get('expect_not_in_output', []):
+            self.assertNotIn(text, course.output)
 
 
     def check_refused(self, course, start, status):

@@ -26,6 +26,10 @@ from rbx1_nav.transform_utils import Pose2D
 
 __all__ = ['MotionRunner', 'common_params', 'guarded', 'run_course_node']
 
+#: ROS s a course listens before its first command when another node publishes on its cmd_vel:
+#: a course commands every tick, a teleop node at 10 Hz; a course slower than 2 Hz may be missed.
+LISTEN = 1.0
+
 
 def common_params(rate):
     """The runner's own parameters; ``rate`` (Hz) is the node's default."""
@@ -66,6 +70,7 @@ class MotionRunner(object):
         self.cmd_vel = CmdVel(self.ticks)
         self.lock = threading.Lock()
         self.halted = False
+        self.yielded = False  # another node drives the robot: send nothing, not even a stop
         # Before rospy closes its topics (Ctrl-C, rosnode kill, launch end): the stop goes out.
         rospy.on_shutdown(self.halt)
         self.tf = TfFollower(name, settings['odom_frame'], settings['base_frame'], self.ticks)
@@ -91,7 +96,10 @@ class MotionRunner(object):
         return self.tf.followed
 
     def stop(self):
-        """Command zero velocity; a no-op once rospy closed its topics (halt() stopped first)."""
+        """Command zero velocity; a no-op once rospy closed its topics (halt() stopped first),
+        or when the course left the robot to another node."""
+        if self.yielded:
+            return
         try:
             self.cmd_vel.send(Twist())
         except rospy.ROSException:
@@ -109,7 +117,7 @@ class MotionRunner(object):
         twist = Twist()
         twist.linear.x, twist.angular.z = command.linear, command.angular
         with self.lock:
-            if not self.halted:
+            if not self.halted and not self.yielded:
                 self.cmd_vel.send(twist)
 
     def start(self):
@@ -124,12 +132,14 @@ class MotionRunner(object):
         """Drive ``course``: its final pose (None when blind), or CourseAborted or
         ROSInterruptException raised, robot stopped. ``stay``: another follows; no leave()."""
         self.start()
-        self.cmd_vel.others.arm()  # till the end, another node commanding motion is a fight
+        self.yielded = False
         try:
             if self.tf.followed is None:
                 self.tf.followed = self.tf.find_base_frame(
                     self.settings['tf_wait'], self.require_tf)
             self.cmd_vel.wait_for_listener(self.settings['tf_wait'])
+            self._claim()
+            self.cmd_vel.others.arm()  # till the end, another node commanding motion is a fight
             if self.tf.followed is not None:
                 self.tf.guard = TransformGuard(
                     self.tf.odom_frame, self.tf.followed, *top_speeds(course))
@@ -146,6 +156,18 @@ class MotionRunner(object):
         if not stay:
             self.leave()
         return final
+
+    def _claim(self):
+        """Leave the robot to a node already driving it. When another node publishes on cmd_vel,
+        listen LISTEN s before the first command; if it drove meanwhile (a course's commands,
+        stops too, or anyone's motion), CourseAborted, and nothing is sent, not even a stop."""
+        if not self.cmd_vel.hear_others(self.settings['tf_wait']):
+            return
+        self.pause(LISTEN)
+        refused = self.cmd_vel.refusal()
+        if refused:
+            self.yielded = True
+            raise CourseAborted(refused)
 
     def pause(self, seconds):
         """Wait ``seconds`` of ROS time between courses."""

@@ -35,9 +35,10 @@ class Ticks(object):
         """The items kept for this tick on ``topic``, in ``key`` order."""
         return ()
 
-    def publisher(self, topic, msg_class):
-        """The publisher of the robot's commands (without Nagle's delay)."""
-        return rospy.Publisher(topic, msg_class, queue_size=5, tcp_nodelay=True)
+    def publisher(self, topic, msg_class, headers=None):
+        """The publisher of the robot's commands (without Nagle's delay), ``headers`` added to
+        its connection header."""
+        return rospy.Publisher(topic, msg_class, queue_size=5, tcp_nodelay=True, headers=headers)
 
     def sent(self, topic):
         """A command went out on ``topic``."""

@@ -155,9 +155,9 @@ class MemberTicks(object):
             return ()
         return self.member.take(self.grant, key=key, topic=topic)
 
-    def publisher(self, topic, msg_class):
+    def publisher(self, topic, msg_class, headers=None):
         """Each command written before publish() returns."""
-        return synchronous_publisher(topic, msg_class)
+        return synchronous_publisher(topic, msg_class, headers=headers)
 
     def sent(self, topic):
         self.member.sent(topic)
