@@ -94,3 +94,16 @@ def test_only_another_nodes_transform_of_our_child_frame_is_foreign():
     assert foreign_parent('/other', '/me', tfs, 'base_footprint') == 'odom'
     assert foreign_parent('/me', '/me', tfs, 'base_footprint') is None
     assert foreign_parent('/other', '/me', tfs[:1], 'base_footprint') is None
+
+
+def test_an_invalid_update_is_named_and_kept():
+    g = guard()
+    assert g.heard('/fake_turtlebot', 1.0, 0.0, 0.0, 0.0) is None
+    text = g.invalid('/fake_turtlebot', 'NaN in the position (nan, nan, 0)')
+    assert text.startswith('tf odom -> base_footprint from /fake_turtlebot is invalid (NaN in '
+                           'the position (nan, nan, 0))')
+    assert 'Stopped the robot.' in text
+    assert g.problem == text
+    # The first problem is kept.
+    assert g.heard('/robot1/fake_turtlebot', 1.02, 0.0, 0.0, 0.0) == text
+    assert g.invalid('/x', 'NaN in the rotation (0, 0, 0, nan)') == text

@@ -1,6 +1,7 @@
 """Is the transform a course steers by one robot's? Not when two nodes publish it (two robots
 with the same frames on one ``/tf``: tf hands the course whichever came last), nor when it jumps
 further than the robot could move at the course's speeds (two robots, or a restarted driver).
+Nor is it usable once it comes invalid (NaN: tf drops it, and the robot's pose is lost).
 
 A jump between updates ``dt`` s apart may reach ``(MARGIN x top speed + EXTRA) x dt + SLACK``,
 distance and heading alike; EXTRA and SLACK exceed a robot's noise, a filter's correction or an
@@ -9,6 +10,7 @@ overshooting motor controller. No rospy: times are float seconds, angles radians
 import math
 
 from rbx1_nav.motion.command import DRIVE
+from rbx1_nav.motion.invalid_poses import invalid_update_text
 
 __all__ = ['MARGIN', 'EXTRA_LINEAR', 'EXTRA_ANGULAR', 'SLACK_LINEAR',
            'SLACK_ANGULAR', 'TransformGuard', 'top_speeds']
@@ -41,8 +43,9 @@ def top_speeds(course):
 
 
 class TransformGuard(object):
-    """Watches ``parent -> child`` for a second publisher and for jumps (``linear`` m/s,
-    ``angular`` rad/s: the course's top speeds); ``problem``: the first (a log line) or None."""
+    """Watches ``parent -> child`` for a second publisher, for jumps (``linear`` m/s,
+    ``angular`` rad/s: the course's top speeds) and for invalid updates; ``problem``: the first
+    (a log line) or None."""
 
     def __init__(self, parent, child, linear, angular):
         self.parent, self.child = parent, child
@@ -51,6 +54,13 @@ class TransformGuard(object):
         self.sender = None  # the first node heard publishing it
         self.last = None    # (stamp, x, y, yaw) of its last update
         self.problem = None
+
+    def invalid(self, sender, problem):
+        """An invalid update (``problem``: invalid_poses.pose_problem's) from node ``sender``;
+        returns ``problem``."""
+        if self.problem is None:
+            self.problem = invalid_update_text(self.parent, self.child, sender, problem)
+        return self.problem
 
     def heard(self, sender, stamp, x, y, yaw):
         """An update from node ``sender``, stamped ``stamp`` s; returns ``problem``."""

@@ -1,11 +1,14 @@
 """The runner's watchdogs: master gone or restarted, robot stalled, old tf (/clock's: sim_time)."""
 import collections
+import math
 
 import rospy
 from nav_msgs.msg import Odometry
 
 from rbx1_nav.common.master_ros import MasterWatch
 from rbx1_nav.common.master_watch import gone_text, restarted_text
+from rbx1_nav.common.rospy_private_ros import sender
+from rbx1_nav.motion.invalid_poses import InvalidPoses, invalid_odom_text, pose_problem
 from rbx1_nav.motion.loop import StallCheck
 
 WARN_PERIOD = 10.0  # s between warnings about an old transform or a stall
@@ -21,12 +24,16 @@ def watch_master(name):
 
 class StallWarnings(object):
     """The velocities the robot measured (``odom``), for Course.stalls. ``clock`` may keep them
-    for the tick that counts them (Ticks.arrived), so a tick reads the same ones on every run."""
+    for the tick that counts them (Ticks.arrived), so a tick reads the same ones on every run.
+    An invalid message (NaN, a rotation not a unit quaternion) is named once per node that sends
+    it; non-finite velocities are skipped."""
 
     TOPIC = 'odom'
 
     def __init__(self, name, clock):
+        self.name = name
         self.clock = clock
+        self.invalid = InvalidPoses()
         self.stall_check = StallCheck(name, lambda text: rospy.logwarn_throttle(WARN_PERIOD, text))
         # Drained by the control loop: the course is touched in one thread.
         self.velocities = collections.deque(maxlen=1000)
@@ -36,6 +43,10 @@ class StallWarnings(object):
     def _on_odom(self, msg):
         twist = msg.twist.twist
         item = (msg.header.stamp, twist.linear.x, twist.angular.z)
+        p, q = msg.pose.pose.position, msg.pose.pose.orientation
+        problem = pose_problem((p.x, p.y, p.z), (q.x, q.y, q.z, q.w), item[1:])
+        if problem is not None and self.invalid.heard(sender(msg), problem):
+            rospy.logwarn('%s: %s', self.name, invalid_odom_text(self.topic, sender(msg), problem))
         if not self.clock.arrived(self.topic, msg, item):
             self.velocities.append(item)
 
@@ -54,7 +65,9 @@ class StallWarnings(object):
 
     def _drain(self):
         while self.velocities:
-            yield self.velocities.popleft()
+            item = self.velocities.popleft()
+            if math.isfinite(item[1]) and math.isfinite(item[2]):
+                yield item
 
 
 class TfAgeWarnings(object):
