@@ -5,7 +5,8 @@ import pytest
 
 from rbx1_nav.estimation.input_check import (ABSURD, DUPLICATE, MAX_POSITION, MAX_VARIANCE,
                                              NEGATIVE_VARIANCE, NOT_FINITE, OUT_OF_ORDER,
-                                             ZERO_STAMP, InputCheck, RejectedInput)
+                                             ZERO_STAMP, InputCheck, RejectedInput,
+                                             source_text)
 from rbx1_nav.common.ros_time import ClockWatch, time_moved_back_text
 
 NAN, INF = float('nan'), float('inf')
@@ -131,3 +132,22 @@ def test_time_moved_back_text():
     assert time_moved_back_text(10.04) == (
         'ROS time moved backwards by 10.0 s: a bag looping or the simulator '
         'restarted? Restarting from the next readings')
+
+
+def test_the_source_names_the_publishing_node_when_known():
+    assert source_text('odom', '/odom', '/nan_driver') == 'odom on /odom from /nan_driver'
+    assert source_text('odom', '/odom') == 'odom on /odom'
+    check = InputCheck()
+    err = rejection(check, 'odom', 1.0, position=(NAN, NAN))
+    assert check.warning(err, 1.0, source_text('odom', '/odom', '/d')).startswith(
+        'dropped odom on /odom from /d: not finite: position (nan, nan)')
+
+
+def test_rejected_counts_every_drop_of_a_sensor_and_keeps_the_last():
+    check = InputCheck()
+    assert check.rejected('odom') is None
+    rejection(check, 'odom', 1.0, position=(NAN, 0.0))
+    check.warning(rejection(check, 'odom', 0.0), 1.0)  # a warning resets dropped(), not this
+    count, last = check.rejected('odom')
+    assert count == 2 and last.kind == ZERO_STAMP
+    assert check.rejected('imu') is None

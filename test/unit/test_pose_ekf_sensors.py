@@ -291,6 +291,21 @@ def test_silent_sensor_text_says_who_publishes():
         'vo', '/vo', 1, None)
 
 
+def test_silent_sensor_text_says_when_all_that_came_was_dropped():
+    """A driver publishing NaN did send: its readings were all dropped."""
+    from rbx1_nav.estimation.input_check import BAD_ORIENTATION, RejectedInput
+    last = RejectedInput('odom', BAD_ORIENTATION, 'quaternion has a non-finite component: '
+                         '(0.0, 0.0, nan, nan)')
+    text = silent_sensor_text('odom', '/odom', 1.0, ['/nan_driver'], (25, last))
+    assert text == ('odom_used is true but every reading on /odom in the 1 s since start-up '
+                    'was dropped (25 so far, the last as bad orientation: quaternion has a '
+                    'non-finite component: (0.0, 0.0, nan, nan)): fix /nan_driver, which '
+                    'publishes it')
+    assert 'sent nothing' not in text
+    assert silent_sensor_text('odom', '/odom', 1.0, None, (1, last)).endswith(
+        'fix the node that publishes it')
+
+
 # --- a second publisher of the transform -------------------------------------
 
 def test_other_publisher_reported_at_once_then_every_period():

@@ -19,8 +19,9 @@ orientation`` (a zero or non-finite quaternion, an IMU without one), is
 another clock`` or is a ``jump`` away from the estimate. Each rejection raises :class:`RejectedInput` and is counted;
 :meth:`InputCheck.warning` turns it into at most one warning per sensor and
 kind every :data:`WARN_PERIOD` seconds, saying how many were dropped since
-the last one. :class:`ClockWatch` notices ROS time moving backwards, after
-which the stamps start again (:meth:`InputCheck.new_clock`).
+the last one and (:func:`source_text`) the node that sent it.
+:class:`ClockWatch` notices ROS time moving backwards, after which the
+stamps start again (:meth:`InputCheck.new_clock`).
 
 No rospy: stamps and times are float seconds.
 """
@@ -30,7 +31,7 @@ import numpy as np
 
 from rbx1_nav.common.throttle import Throttle
 
-__all__ = ['InputCheck', 'RejectedInput',
+__all__ = ['InputCheck', 'RejectedInput', 'source_text',
            'MAX_POSITION', 'MAX_VARIANCE', 'WARN_PERIOD', 'ZERO_STAMP',
            'OUT_OF_ORDER', 'DUPLICATE', 'NOT_FINITE', 'ABSURD',
            'NEGATIVE_VARIANCE', 'BAD_ORIENTATION', 'MALFORMED',
@@ -73,6 +74,12 @@ class RejectedInput(ValueError):
         self.sensor, self.kind, self.detail = sensor, kind, detail
 
 
+def source_text(sensor, topic, node=None):
+    """Where a reading came from, for a warning: the sensor, its topic and the node
+    that published it (None: unknown)."""
+    return '%s on %s%s' % (sensor, topic, ' from %s' % node if node else '')
+
+
 class InputCheck(object):
     """Screens readings per sensor; counts and throttles the rejections.
 
@@ -86,6 +93,7 @@ class InputCheck(object):
         self.period = float(period)
         self._newest = {}  # sensor -> stamp of the newest reading taken
         self._dropped = {}  # (sensor, kind) -> drops since the last warning
+        self._rejected = {}  # sensor -> (drops in all, the last RejectedInput)
         self._throttle = Throttle(self.period)
 
     def newest(self, sensor):
@@ -116,11 +124,18 @@ class InputCheck(object):
         """
         key = (sensor, kind)
         self._dropped[key] = self._dropped.get(key, 0) + 1
-        return RejectedInput(sensor, kind, detail)
+        rejected = RejectedInput(sensor, kind, detail)
+        self._rejected[sensor] = (self._rejected.get(sensor, (0,))[0] + 1, rejected)
+        return rejected
 
     def dropped(self, sensor, kind):
         """Readings of ``sensor`` dropped as ``kind`` since the last warning."""
         return self._dropped.get((sensor, kind), 0)
+
+    def rejected(self, sensor):
+        """(readings of ``sensor`` dropped in all, the last :class:`RejectedInput`),
+        or None before any."""
+        return self._rejected.get(sensor)
 
     def warning(self, rejected, now, source=None):
         """The warning to log for ``rejected`` at ROS time ``now``, or None.

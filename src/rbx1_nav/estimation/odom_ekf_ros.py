@@ -15,10 +15,11 @@ from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry
 
 from rbx1_nav.common.master_ros import MasterWatch, topic_graph
+from rbx1_nav.common.rospy_private_ros import connection_header
 from rbx1_nav.common.reregister_ros import reregister_node
 from rbx1_nav.common.node_ros import start_node
 from rbx1_nav.common.ros_time import time_moved_back_text
-from rbx1_nav.estimation.input_check import RejectedInput
+from rbx1_nav.estimation.input_check import RejectedInput, source_text
 from rbx1_nav.estimation.odom_ekf import (DEFAULT_INPUTS, SENSOR, InputChoice,
                                           PoseToOdometry, input_publishers,
                                           silent_input_text)
@@ -91,8 +92,8 @@ class OdomEkfNode(object):
         try:
             odom = self.converter.convert(msg)
         except RejectedInput as err:
-            text = self.converter.inputs.warning(
-                err, now, '%s on %s' % (SENSOR, topic))
+            text = self.converter.inputs.warning(err, now, source_text(
+                SENSOR, topic, connection_header(msg).get('callerid')))
             if text:
                 rospy.logwarn('odom_ekf: ' + text)
             return

@@ -35,7 +35,7 @@ from rbx1_nav.common.rospy_private_ros import connection_header, connections, pu
 from rbx1_nav.common.tf_publishers import foreign_parent
 from rbx1_nav.estimation.ekf import is_finite_estimate
 from rbx1_nav.estimation.fusion import GyroOdomFusion
-from rbx1_nav.estimation.input_check import RejectedInput
+from rbx1_nav.estimation.input_check import RejectedInput, source_text
 from rbx1_nav.estimation.pose_ekf import (TOPICS, gps_fix, imu_yaw,
                                           planar_pose, pose_message,
                                           transform_message)
@@ -151,8 +151,8 @@ class PoseEkfNode(object):
                 add(now, msg.header.stamp.to_sec(),
                     *unpack(self.fusion.inputs, name, msg))
             except RejectedInput as err:
-                texts.append(self.fusion.inputs.warning(
-                    err, now, '%s on %s' % (name, self.topics[name])))
+                texts.append(self.fusion.inputs.warning(err, now, source_text(
+                    name, self.topics[name], connection_header(msg).get('callerid'))))
         for text in texts:
             if text:
                 rospy.logwarn('pose_ekf: ' + text)
@@ -209,18 +209,19 @@ class PoseEkfNode(object):
                 events, estimates = [], []
                 rospy.logwarn_throttle(WARN_PERIOD, 'pose_ekf: filter restarted'
                                        ' (%s); waiting for new sensor data' % err)
-            silent = self.fusion.silent_sensors(now)
+            silent = [(name, self.fusion.inputs.rejected(name))
+                      for name in self.fusion.silent_sensors(now)]
             gone = self.conflicts.gone(now)
         for text in texts:
             rospy.logwarn('pose_ekf: ' + text)
         for level, text in events:
             (rospy.logwarn if level == 'warn' else rospy.loginfo)(
                 'pose_ekf: ' + text)
-        for name in silent:
+        for name, rejected in silent:
             topic = self.topics[name]
             rospy.logwarn('pose_ekf: ' + silent_sensor_text(
                 name, topic, self.fusion.sensor_timeout,
-                connected_publishers(self.subs[name])))
+                connected_publishers(self.subs[name]), rejected))
         for caller in gone:
             rospy.loginfo('pose_ekf: %s no longer publishes %s on tf',
                           caller, self.base_frame)

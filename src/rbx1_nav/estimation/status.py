@@ -110,12 +110,21 @@ def _matrix_text(matrix):
                            for row in np.asarray(matrix)) + ']'
 
 
-def silent_sensor_text(name, topic, timeout, publishers):
-    """The warning for a used sensor that never sent a message.
+def silent_sensor_text(name, topic, timeout, publishers, rejected=None):
+    """The warning for a used sensor that never sent a message the filter took.
 
     ``publishers`` lists the nodes that publish ``topic`` (the node's
-    subscriber is connected to them), or is None when that is unknown.
+    subscriber is connected to them), or is None when that is unknown;
+    ``rejected``: (how many readings were dropped, the last one's
+    RejectedInput), or None if none came.
     """
+    if rejected is not None:
+        count, last = rejected
+        return ('%s_used is true but every reading on %s in the %.3g s since '
+                'start-up was dropped (%d so far, the last as %s: %s): fix %s' % (
+                    name, topic, timeout, count, last.kind, last.detail,
+                    '%s, which publishes it' % ', '.join(sorted(publishers))
+                    if publishers else 'the node that publishes it'))
     text = ('%s_used is true but no message came on %s within %.3g s of '
             'start-up; ' % (name, topic, timeout))
     if publishers is None:
