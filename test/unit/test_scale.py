@@ -6,7 +6,7 @@ import os
 import pytest
 
 from ideal_robot import IdealRobot, run
-from rbx1_nav.calibration.scale import (ANGULAR, LINEAR, USUAL, PoseTrack,
+from rbx1_nav.calibration.scale import (ANGULAR, LINEAR, USUAL, Answers, PoseTrack,
                                         correction, course, far_from_one, measure,
                                         measured_refusal, report)
 from rbx1_nav.sim.diff_drive import DiffDriveConfig
@@ -196,3 +196,73 @@ def test_a_measurement_that_is_not_positive_is_refused_naming_it(kind, value):
                                          (ANGULAR, 352.0), (ANGULAR, 4000.0)])
 def test_a_positive_measurement_is_not_refused(kind, value):
     assert measured_refusal(kind, value, '/n') is None
+
+
+def configs(kind, answers, *changes):
+    """Feed ``answers`` the configurations a server would hold after each
+    change (a dict of fields), starting from its defaults; return the last
+    configuration kept and the notes."""
+    config = {'start_test': False, kind.measured: 0.0}
+    notes = []
+    for change in changes:
+        config = dict(config, **change)
+        notes.append(answers.reconfigured(config))
+    return config, notes
+
+
+@pytest.mark.parametrize('kind, value', [(LINEAR, 0.97), (ANGULAR, 352.0)])
+def test_a_measurement_typed_while_the_test_runs_is_kept_for_its_end(kind, value):
+    answers = Answers(kind, '/calibrate_' + kind.name)
+    config, notes = configs(kind, answers, {'start_test': True},
+                            {kind.measured: value})
+    assert notes[0] is None
+    assert notes[1] == ('info', '%s %g kept: the test is still running; it is used '
+                        'when the test ends, as if given after "odometry says"'
+                        % (kind.measured, value))
+    assert config[kind.measured] == value  # the field shows it, as after the end
+    # The node takes it once the test has ended, and only once.
+    config = dict(config, start_test=False)
+    assert answers.reconfigured(config) is None
+    assert config[kind.measured] == value
+    assert answers.take() == value
+    assert answers.take() == 0.0
+
+
+def test_a_test_start_clears_the_field_so_the_same_number_typed_again_counts():
+    answers = Answers(LINEAR, '/calibrate_linear')
+    config, _ = configs(LINEAR, answers, {'measured_distance': 0.97})
+    assert answers.take() == 0.97  # for the test before
+    config, _ = configs(LINEAR, answers, dict(config, start_test=True))
+    assert config['measured_distance'] == 0.0
+    configs(LINEAR, answers, dict(config, measured_distance=0.97))
+    assert answers.take() == 0.97
+
+
+def test_a_value_typed_just_before_a_start_still_belongs_to_the_test_before():
+    answers = Answers(LINEAR, '/calibrate_linear')
+    config, _ = configs(LINEAR, answers, {'measured_distance': 0.97},
+                        {'start_test': True})
+    assert config['measured_distance'] == 0.0
+    assert answers.take() == 0.97
+
+
+@pytest.mark.parametrize('kind, value', [(LINEAR, -1.0), (ANGULAR, float('nan'))])
+def test_a_refused_value_is_refused_at_once_during_a_test_too(kind, value):
+    for start in (False, True):
+        answers = Answers(kind, '/calibrate_' + kind.name)
+        config, notes = configs(kind, answers, {'start_test': start},
+                                {kind.measured: value})
+        level, line = notes[-1]
+        assert level == 'warn'
+        assert line == measured_refusal(kind, value, '/calibrate_' + kind.name)
+        assert config[kind.measured] == 0.0
+        assert answers.take() == 0.0
+
+
+def test_zero_takes_back_a_value_not_used_yet_and_other_fields_give_nothing():
+    answers = Answers(LINEAR, '/calibrate_linear')
+    config, notes = configs(LINEAR, answers, {'start_test': True},
+                            {'measured_distance': 0.97}, {'measured_distance': 0.0},
+                            {'speed': 0.2})
+    assert notes[2:] == [None, None]
+    assert answers.take() == 0.0

@@ -23,7 +23,7 @@ from rbx1_nav.transform_utils import normalize_angle
 
 __all__ = ['Kind', 'LINEAR', 'ANGULAR', 'PoseTrack', 'course', 'measure',
            'correction', 'report', 'far_from_one', 'measured_refusal',
-           'USUAL', 'MAX_RATIO']
+           'Answers', 'USUAL', 'MAX_RATIO']
 
 Kind = namedtuple('Kind', 'name goal measured correction unit speed_unit '
                          'quantity unit_name moved causes')
@@ -150,6 +150,57 @@ def measured_refusal(kind, value, node):
             'dynamic_reconfigure dynparam set %s %s %s'
             % (kind.measured, value, kind.quantity, kind.moved, kind.unit_name,
                node, kind.measured, example))
+
+
+class Answers(object):
+    """The ``measured_*`` values given through reconfigure, each used once
+    and none lost, whenever it is typed.
+
+    :meth:`reconfigured` sees every configuration the server is given (a
+    dict, changed in place: the server keeps what it returns). A refused
+    value is refused at once, the field set back to 0. A test's start sets
+    the field back to 0, so that a value typed while the test runs is a
+    change (the last test's number typed again too), and a value typed
+    then is kept until the node takes it (:meth:`take`) after the test has
+    ended: it is used as if typed after "odometry says". The field keeps
+    it, as it keeps a value typed after the end.
+    """
+
+    def __init__(self, kind, node):
+        self.kind = kind
+        self.node = node  # the node's name, for the lines to type
+        self.field = 0.0  # the measured field as last seen
+        self.new = 0.0  # a usable value given and not yet taken, or 0
+        self.testing = False  # start_test as last seen
+
+    def reconfigured(self, config):
+        """Note ``config``; return (level, line) to tell the user at once
+        ('warn': a refused value; 'info': one kept for the test's end), or
+        None."""
+        kind = self.kind
+        value = config[kind.measured]
+        note = None
+        if value != self.field:  # the field never keeps a NaN: refused
+            self.field = value
+            refusal = value != 0.0 and measured_refusal(kind, value, self.node)
+            if refusal:
+                config[kind.measured] = self.field = 0.0
+                note = ('warn', refusal)
+            else:  # 0 takes back a value not used yet
+                self.new = value
+                if value and self.testing and config['start_test']:
+                    note = ('info', '%s %g kept: the test is still running; it is '
+                            'used when the test ends, as if given after "odometry '
+                            'says"' % (kind.measured, value))
+        if config['start_test'] and not self.testing:
+            config[kind.measured] = self.field = 0.0
+        self.testing = bool(config['start_test'])
+        return note
+
+    def take(self):
+        """The newest usable value given and not yet taken, or 0."""
+        value, self.new = self.new, 0.0
+        return value
 
 
 def far_from_one(kind, factor):

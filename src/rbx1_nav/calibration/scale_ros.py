@@ -7,8 +7,10 @@ command line) runs one test through rbx1_nav.motion.runner_ros, then clears it.
 The node then needs the distance or angle really covered: from
 ``~ground_truth_topic`` (nav_msgs/Odometry, e.g. the simulator's
 ground_truth) when set, otherwise from the ``measured_*`` field the user
-sets after measuring the floor. It prints the scale correction to set on
-the driver (rbx1_nav.calibration.scale) and waits for the next test.
+sets after measuring the floor (a value typed while the test still runs is
+kept and used when it ends: rbx1_nav.calibration.scale.Answers). It prints
+the scale correction to set on the driver (rbx1_nav.calibration.scale) and
+waits for the next test.
 
 A test that fails (no tf, a stale transform, the clock gone, Ctrl-C) stops
 the robot and ends the node with status 1; Ctrl-C between tests ends it
@@ -71,17 +73,18 @@ class CalibrationNode(object):
         self.config = None
         self.odometry = None  # the last test's odometry value, kind's unit
         self.node_factor = 1.0  # and the node's correction field it ran with
-        self.measured = 0.0  # a new measured_* value to report, or 0
-        self.measured_field = 0.0
+        self.answers = scale.Answers(kind, rospy.get_name())
         topic = settings['ground_truth_topic']
         self.truth = GroundTruth(topic) if topic else None
         self.server = Server(config_type, self.on_reconfigure)
 
     def on_reconfigure(self, config, level):
         with self.lock:
+            note = self.answers.reconfigured(config)
             self.config = config
-            if config[self.kind.measured] != self.measured_field:
-                self.measured = self.measured_field = config[self.kind.measured]
+        if note:
+            (rospy.logwarn if note[0] == 'warn' else rospy.loginfo)(
+                '%s: %s', self.name, note[1])
         return config
 
     def spin(self):
@@ -100,24 +103,36 @@ class CalibrationNode(object):
         while not rospy.is_shutdown():
             with self.lock:
                 config = dict(self.config)
-                measured, self.measured = self.measured, 0.0
+                measured = self.answers.take()
+            if measured:  # for the last test, even if the next one starts now
+                self.report(measured, 'measured on the floor')
             if config['start_test']:
-                self.run_test(config)
+                reported = self.run_test(config)
+                with self.lock:
+                    early = self.answers.take()  # typed while the test ran
                 try:
-                    self.server.update_configuration({'start_test': False,
-                                                      self.kind.measured: 0.0})
+                    self.server.update_configuration({'start_test': False})
                 except rospy.ROSException:
                     if rospy.core.is_shutdown_requested():
                         break  # Ctrl-C after the test: the robot is stopped
                     raise
-            elif measured != 0.0:  # NaN too
-                self.given(measured)
+                if early:
+                    rospy.loginfo('%s: using %s %g, given while the test ran',
+                                  self.name, self.kind.measured, early)
+                    self.report(early, 'measured on the floor')
+                elif not reported:
+                    rospy.loginfo(
+                        '%s: now measure the %s the robot really %s and give it '
+                        '(%s): rosrun dynamic_reconfigure dynparam set %s %s VALUE',
+                        self.name, self.kind.quantity, self.kind.moved,
+                        self.kind.unit_name, rospy.get_name(), self.kind.measured)
             try:
                 poll.sleep()
             except rospy.ROSInterruptException:
                 break
 
     def run_test(self, config):
+        """One test; True if ground truth gave its measurement."""
         kind = self.kind
         course = scale.course(kind, config, self.settings['settle'])
         rospy.loginfo('%s: %s %g %s at %g %s, tolerance %g %s, this node\'s '
@@ -135,25 +150,10 @@ class CalibrationNode(object):
                       self.name, self.odometry, kind.unit,
                       self.runner.odom_frame, self.runner.followed)
         truth = self.truth.stop(self.runner.last_tick) if self.truth else None
-        if truth is not None:
-            self.report(truth.value(kind), 'ground truth on %s'
-                        % self.truth.topic)
-        else:
-            rospy.loginfo(
-                '%s: now measure the %s the robot really %s and give it '
-                '(%s): rosrun dynamic_reconfigure dynparam set %s %s VALUE',
-                self.name, kind.quantity, kind.moved, kind.unit_name,
-                rospy.get_name(), kind.measured)
-
-    def given(self, measured):
-        """A ``measured_*`` value from reconfigure: refused with a warning
-        (and the field set back to 0) unless a positive number."""
-        refusal = scale.measured_refusal(self.kind, measured, rospy.get_name())
-        if refusal:
-            rospy.logwarn('%s: %s', self.name, refusal)
-            self.server.update_configuration({self.kind.measured: 0.0})
-            return
-        self.report(measured, 'measured on the floor')
+        if truth is None:
+            return False
+        self.report(truth.value(kind), 'ground truth on %s' % self.truth.topic)
+        return True
 
     def report(self, measured, source):
         if self.odometry is None:
