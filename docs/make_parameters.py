@@ -52,8 +52,10 @@ start on a private parameter it does not know that its command line or
 launch file gives it, naming the nearest one it does (`_gaol_distance:=0.5`:
 did you mean `~goal_distance`?; exit 1: a typo must not run the default),
 and only warns of one left on the parameter server by an earlier run. A
-value given as `_name:=value` stays on the parameter server for later runs;
-the error for a bad one says how to clear it (`rosparam delete
+value given as `_name:=value` stays on the parameter server for later runs
+once the node has started; a node that refuses to start (a typo, a bad
+value) leaves the parameter server as it found it, and the error for a bad
+value held there says how to clear it (`rosparam delete
 /nav_square/linear_speed`). Frame names given with a leading `/` are
 accepted and the slash dropped (tf2 rejects it). The launch files take the
 same settings as arguments (`roslaunch rbx1_nav nav_square.launch

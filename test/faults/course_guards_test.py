@@ -19,10 +19,11 @@ with the fake robot; ``~case`` picks the fault:
   (odom_out_and_back) drives the robot; the second must send nothing and
   exit 1 saying it left the robot to the first, which ends where the pure
   model of it alone ends;
-* ``typo``: ``_goal_distnace:=0.5`` on the command line refuses to move;
-  the same typo left on the master only warns (the course runs); the
-  .test also launches a node with the typo as a ``<param>``, which
-  refuses too.
+* ``typo``: ``_goal_distnace:=0.5`` on the command line refuses to move
+  and leaves the master's parameters as it found them (the fake robot's
+  typo too); the same typo left on the master only warns (the course
+  runs); the .test also launches a node with the typo as a ``<param>``,
+  which refuses too.
 
 In driver, second_course, two_publishers and jump this test is a lockstep member, with
 ticks of its own as a teleop node's at 10 Hz (``hold_ticks``): time waits
@@ -34,9 +35,8 @@ import os
 import re
 import sys
 import threading
-import unittest
-
 import math
+import unittest
 
 import rosgraph
 import rospy
@@ -340,7 +340,10 @@ class CourseGuardsTest(unittest.TestCase):
         watch = RobotWatch()
         commands = Commands('cmd_vel')
         start = watch.wait_for_truth()
-        course = CourseProcess(params=dict(SHORT, goal_distnace=0.2))
+        # Set before the run by the user (rosparam set): legs, which the
+        # command line gives too, and rate, which it does not.
+        user = {'legs': 2, 'rate': 15}
+        course = CourseProcess(params=dict(SHORT, goal_distnace=0.2), leftovers=user)
         status = course.finish()
         out = course.output
         line = self.one_error_line(course, 'unknown parameter')
@@ -351,13 +354,31 @@ class CourseGuardsTest(unittest.TestCase):
         self.assertEqual(commands.motion_from(course.node_name), [])
         self.assertLess(watch.moved_since(start), 1e-9)
         self.assertEqual(watch.true_speed(), (0.0, 0.0))
+        # The master's parameters as the refused run found them: nothing of
+        # its command line (~goal_distnace, ~goal_distance, ...), the user's
+        # legs and rate unchanged.
+        left = rospy.get_param(course.node_name)
+        print('RESULT typo: left on the master under %s: %s' % (course.node_name, left))
+        self.assertEqual(left, user, out)
 
-        # The launch file's <param> typo (launched by the .test): refused.
+        # The launch file's <param> typo (launched by the .test): refused,
+        # and the launch's parameters stay (roslaunch set them, not the node).
         launched, log = launched_node_status('odom_out_and_back_typo')
         print('RESULT typo in a launch file: exit %s' % launched)
         self.assertEqual(launched, 1, log)
         self.assertIn('unknown parameter ~goal_distnace (did you mean '
                       '~goal_distance?) in the launch file; not starting', log)
+        self.assertEqual(rospy.get_param('/odom_out_and_back_typo'),
+                         {'goal_distnace': 0.2, 'legs': 1})
+
+        # The fake robot refused for a typo (another name: one runs)
+        # leaves none of its command line either.
+        robot = CourseProcess(script='fake_turtlebot.py', name='fake_turtlebot_typo',
+                              params={'realistc': 'true'})
+        status = robot.finish()
+        self.assertEqual(status, 1, robot.output)
+        self.assertIn('unknown parameter ~realistc', robot.output)
+        self.assertFalse(rospy.has_param('/fake_turtlebot_typo'), rospy.get_param_names())
 
         # Left on the master by an earlier run, not on this command line:
         # a warning, and the course runs (a short one).

@@ -147,8 +147,8 @@ def test_text():
     for bad in ('', 7, None):
         with pytest.raises(ValueError, match='~left_wheel_joint must'):
             text('~left_wheel_joint', bad)
-    # `rosrun ... _plot:=` sets None: empty, where empty is allowed (a
-    # frame too: _imu_frame:= is the automatic frame).
+    # `rosrun ... _plot:=~` sets None (rospy ignores `_plot:=`): empty,
+    # where empty is allowed (a frame too: _imu_frame:=~ is the automatic frame).
     assert text('~plot', None, allow_empty=True) == ''
     assert frame('~imu_frame', None, allow_empty=True) == ''
     with pytest.raises(ValueError, match='~plot must be a string'):
@@ -246,6 +246,8 @@ def test_command_line_names_the_private_parameters_and_sees_roslaunch():
     assert command_line(['node.py', '_precise:=true', '__name:=x', 'cmd_vel:=a',
                          '_tf_wait:=3']) == ({'precise', 'tf_wait'}, False)
     assert command_line(['node.py', '__name:=x', '__log:=/tmp/x.log']) == (set(), True)
+    # As rospy reads them: a space ends the name.
+    assert command_line(['node.py', '_a :=1', '_b/c:=2', ' _d:=1']) == ({'b/c'}, False)
 
 
 def test_leftovers_name_non_default_values_not_on_the_command_line():
@@ -283,10 +285,25 @@ def test_a_bad_value_error_names_the_rosparam_delete_of_each_bad_parameter():
     assert message.startswith('~linear_speed must be > 0 and <= 2, got -1 (in '
                               'metres per second); ~goal_angle must be a '
                               "number, got 'x' (in degrees). ")
-    assert message.endswith('clear it with rosparam delete '
-                            '/robot1/nav_square/linear_speed; rosparam delete '
-                            '/robot1/nav_square/goal_angle')
+    assert message.endswith('(in degrees). On the parameter server, not from this command '
+                            'line (an earlier run, a launch file or rosparam set): clear '
+                            'it with rosparam delete /robot1/nav_square/linear_speed; '
+                            'rosparam delete /robot1/nav_square/goal_angle')
     assert 'NAME' not in message and '/precise' not in message
+
+
+def test_a_bad_value_from_the_command_line_has_no_rosparam_delete():
+    # A refused node leaves its command line's values off the master
+    # (rbx1_nav.common.params_given): nothing there to delete.
+    given = {'linear_speed': -1, 'goal_angle': 'x'}
+    with pytest.raises(ValueError) as err:
+        check_all(CLEAR_SPECS, lambda name, default: given.get(name, default), '/n',
+                  given={'linear_speed'})
+    assert str(err.value).endswith('clear it with rosparam delete /n/goal_angle')
+    with pytest.raises(ValueError) as err:
+        check_all(CLEAR_SPECS, lambda name, default: given.get(name, default), '/n',
+                  given={'linear_speed', 'goal_angle'})
+    assert str(err.value).endswith("got 'x' (in degrees)") and 'rosparam' not in str(err.value)
 
 
 def test_check_all_returns_the_checked_values():

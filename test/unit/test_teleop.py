@@ -214,10 +214,10 @@ def test_speeds_must_be_within_their_maximums():
         settings(linear_speed=1.5, angular_speed=3.5)
     assert str(err.value) == (
         '~linear_speed must be <= ~max_linear_speed (1), got 1.5; '
-        '~angular_speed must be <= ~max_angular_speed (3), got 3.5. A value '
-        'given as _name:=value stays on the parameter server for later runs: '
-        'clear it with rosparam delete /teleop_keyboard/linear_speed; '
-        'rosparam delete /teleop_keyboard/angular_speed')
+        '~angular_speed must be <= ~max_angular_speed (3), got 3.5. On the '
+        'parameter server, not from this command line (an earlier run, a '
+        'launch file or rosparam set): clear it with rosparam delete '
+        '/teleop_keyboard/linear_speed; rosparam delete /teleop_keyboard/angular_speed')
     assert settings(linear_speed=1.5, max_linear_speed=1.5,
                     max_angular_speed=MAX_ANGULAR_SPEED)['linear_speed'] == 1.5
 
@@ -230,6 +230,22 @@ def test_every_bad_setting_is_reported_at_once():
     assert str(err.value).endswith(
         'rosparam delete /teleop_keyboard/linear_speed; '
         'rosparam delete /teleop_keyboard/key_timeout')
+
+
+def test_a_bad_setting_from_the_command_line_has_no_rosparam_delete():
+    # A refused node leaves the command line's values off the master
+    # (rbx1_nav.common.params_given): nothing there to delete.
+    values = dict(linear_speed=1.5, angular_speed=3.5)
+    with pytest.raises(ValueError) as err:
+        check_settings(lambda name, default: values.get(name, default), given={'linear_speed'})
+    assert str(err.value).endswith(
+        'got 3.5. On the parameter server, not from this command line (an earlier run, a '
+        'launch file or rosparam set): clear it with rosparam delete '
+        '/teleop_keyboard/angular_speed')
+    with pytest.raises(ValueError) as err:
+        check_settings(lambda name, default: values.get(name, default),
+                       given={'linear_speed', 'angular_speed'})
+    assert 'rosparam' not in str(err.value) and str(err.value).endswith('got 3.5')
 
 
 # --- one read of the terminal at a time --------------------------------------

@@ -1,4 +1,5 @@
-"""Every node's start-up and shutdown: start_node, until_shutdown, exit_node."""
+"""Every node's start-up and shutdown: start_node, until_shutdown, exit_node; a node that refuses
+to start after start_node calls forget_command_line."""
 import os
 import signal
 import sys
@@ -8,7 +9,7 @@ import time
 import rosgraph
 import rospy
 
-from rbx1_nav.common import params
+from rbx1_nav.common import params, params_given
 from rbx1_nav.common.master_ros import master_identity
 from rbx1_nav.common.master_watch import misdirected_text, replaced_node
 from rbx1_nav.common.ros_time import no_clock_text
@@ -102,10 +103,9 @@ def wait_for_master(name):
         raise SystemExit(1)
 
 
-def warn_unknown(name, specs):
-    """Warn of unknown private parameters; False (logged) if one is a typo."""
-    given = rospy.get_param('~', {})
-    found = params.unknown(given if isinstance(given, dict) else {}, specs)
+def warn_unknown(name, specs, given):
+    """Warn of unknown private parameters among ``given`` (names); False (logged) if a typo."""
+    found = params.unknown(given, specs)
     refused = params.typos(found, sys.argv)
     if refused:
         rospy.logerr('%s: %s', name, refused)
@@ -116,26 +116,66 @@ def warn_unknown(name, specs):
     return True
 
 
+def init_node(name, **options):
+    """rospy.init_node without the command line's private parameters (common.params_given)."""
+    rospy.init_node(name, argv=[arg for arg in sys.argv if params_given.private_name(arg) is None],
+                    **options)
+
+
+def private_params():
+    """(the command line's private parameters, as rospy reads them; the master's namespace)."""
+    before = rospy.get_param('~', {})
+    return (rospy.client.load_command_line_node_params(sys.argv),
+            before if isinstance(before, dict) else {})
+
+
+_PUT_BACK = []  # what keep_command_line replaced: (names to delete, {name: old value})
+
+
+def keep_command_line(given, before):
+    """The node starts: set ``given`` on the master as init_node does (later runs and dynparam
+    read them there), remembering what they replaced in ``before``."""
+    for key, value in given.items():
+        rospy.set_param('~' + key, value)
+    _PUT_BACK[:] = [params_given.put_back(before, given)]
+
+
+def forget_command_line():
+    """A node refusing to start after start_node: put back what keep_command_line replaced."""
+    for deletes, restores in _PUT_BACK:
+        for key in deletes:
+            try:
+                rospy.delete_param('~' + key)
+            except KeyError:  # gone already
+                pass
+        for key, value in restores.items():
+            rospy.set_param('~' + key, value)
+    del _PUT_BACK[:]
+
+
 def start_node(name, specs, doc, clock=True):
     """--help (``doc`` and ``specs``), init_node, then read and log ``specs``;
     ``clock`` false (the node that publishes it) skips waiting for /clock.
-    Returns the values, or None (logged) if one is unusable or unknown."""
+    Returns the values, or None (logged) if one is unusable or unknown: then
+    the command line's ``_name:=value`` are not on the master (init_node)."""
     exit_if_help(specs, doc)
     wait_for_master(name)
     shut_down_on_signals()
     mend_rospy_shutdown()
-    rospy.init_node(name, disable_signals=True)
+    init_node(name, disable_signals=True)
     cache_rosout_setting()
     if clock and not wait_for_clock(CLOCK_WAIT):
         rospy.logwarn('%s: %s; waiting for it', name, no_clock_text(CLOCK_WAIT))
-    if not warn_unknown(name, specs):
-        return None
     try:
-        values = params.check_all(
-            specs, lambda key, default: rospy.get_param('~' + key, default), rospy.get_name())
-    except ValueError as err:
+        given, before = private_params()
+        if not warn_unknown(name, specs, set(before) | {key.split('/')[0] for key in given}):
+            return None
+        values = params.check_all(specs, lambda key, default: given[key] if key in given else
+                                  params_given.lookup(before, key, default), rospy.get_name(), given)
+    except (ValueError, rospy.ROSInitException) as err:
         rospy.logerr('%s: bad parameters, not moving: %s', name, err)
         return None
+    keep_command_line(given, before)
     rospy.loginfo('%s: %s', name, params.start_text(specs, values))
     old = params.leftovers(specs, values, sys.argv, rospy.get_name())
     if old:

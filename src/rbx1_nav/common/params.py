@@ -7,6 +7,7 @@ import math
 import numbers
 from collections import namedtuple
 
+from rbx1_nav.common.params_given import private_name
 from rbx1_nav.transform_utils import strip_leading_slash
 
 __all__ = ['number', 'integer', 'flag', 'frame', 'text', 'raw', 'POSITIVE', 'Param', 'param',
@@ -81,7 +82,7 @@ def raw(name, value, **options):
 
 def text(name, value, allow_empty=False):
     """``value`` stripped of surrounding whitespace. Where empty is allowed,
-    None is empty too (``_plot:=`` sets YAML's empty value, None)."""
+    None is empty too (``_plot:=~`` sets YAML's empty value, None)."""
     if value is None and allow_empty:
         return ''
     if not isinstance(value, str):
@@ -153,18 +154,23 @@ def read_all(specs, lookup, prefix=''):
 
 
 def clear_text(node_name, names):
-    """The ``rosparam delete`` of each of ``names`` of the node ``node_name``."""
+    """The ``rosparam delete`` of each of ``names`` of the node ``node_name``
+    (values on the parameter server that its command line did not give)."""
     deletes = '; '.join('rosparam delete %s/%s' % (node_name.rstrip('/'), name) for name in names)
-    return ('A value given as _name:=value stays on the parameter server for later runs: clear '
-            'it with %s' % deletes)
+    return ('On the parameter server, not from this command line (an earlier run, a launch file '
+            'or rosparam set): clear it with %s' % deletes)
 
 
-def check_all(specs, lookup, node_name):
-    """The checked values, or ValueError naming each bad one and its ``rosparam delete``."""
+def check_all(specs, lookup, node_name, given=frozenset()):
+    """The checked values, or ValueError naming each bad one, and the
+    ``rosparam delete`` of each not in ``given`` (this command line's,
+    which a refused node leaves off the master: common.params_given)."""
     values, problems = read_all(specs, lookup, '~')
     if problems:
-        bad = [spec.name for spec in specs if read_all([spec], lookup)[1]]
-        raise ValueError('%s. %s' % ('; '.join(problems), clear_text(node_name, bad)))
+        bad = [spec.name for spec in specs
+               if spec.name not in given and read_all([spec], lookup)[1]]
+        raise ValueError('. '.join(['; '.join(problems)] + ([clear_text(node_name, bad)]
+                                                            if bad else [])))
     return values
 
 
@@ -203,17 +209,10 @@ def unknown(given, specs):
 
 
 def command_line(argv):
-    """(``_name:=value`` names in ``argv``, whether roslaunch (``__log:=``) started the node)."""
-    given, launched = set(), False
-    for arg in argv[1:]:
-        name, sep, _ = arg.partition(':=')
-        if not sep:
-            continue
-        if name == '__log':
-            launched = True
-        elif name.startswith('_') and not name.startswith('__'):
-            given.add(name[1:])
-    return given, launched
+    """(``_name:=value`` names in ``argv``, as rospy reads them, whether
+    roslaunch (``__log:=``) started the node)."""
+    launched = any(arg.partition(':=')[0] == '__log' for arg in argv[1:])
+    return {private_name(arg) for arg in argv[1:]} - {None}, launched
 
 
 def typos(found, argv):

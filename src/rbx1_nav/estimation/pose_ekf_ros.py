@@ -29,7 +29,7 @@ from rbx1_nav.sim_time import member_ros as lockstep
 from rbx1_nav.sim_time.member import BACK, NO_TICK
 from rbx1_nav.common.master_ros import MasterWatch
 from rbx1_nav.common.reregister_ros import reregister_node
-from rbx1_nav.common.node_ros import start_node, until_shutdown
+from rbx1_nav.common.node_ros import forget_command_line, start_node, until_shutdown
 from rbx1_nav.common.ros_time import time_moved_back_text
 from rbx1_nav.common.rospy_private_ros import connection_header, connections, publisher_name
 from rbx1_nav.common.tf_publishers import foreign_parent
@@ -305,6 +305,7 @@ def main(specs, doc):
         node = PoseEkfNode(values)
     except ValueError as err:
         rospy.logfatal('pose_ekf: %s' % err)
+        forget_command_line()
         return 1
     until_shutdown(node.spin)
     return 0

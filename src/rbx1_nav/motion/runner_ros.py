@@ -11,7 +11,7 @@ from geometry_msgs.msg import Twist
 from rbx1_nav.common import params
 from rbx1_nav.common.params import param
 from rbx1_nav.common.ros_time import time_moved_back_text
-from rbx1_nav.common.node_ros import start_node
+from rbx1_nav.common.node_ros import forget_command_line, start_node
 from rbx1_nav.common.aborted import CourseAborted
 from rbx1_nav.motion.cmd_vel_ros import CmdVel
 from rbx1_nav.motion.precise import Breakaway
@@ -300,6 +300,7 @@ def run_course_node(name, specs, build_course, require_tf=True, doc=None):
         course = build_course(values)
     except ValueError as err:
         rospy.logerr('%s: bad parameters, not moving: %s', name, err)
+        forget_command_line()
         return 1
     runner = MotionRunner(name, values, require_tf)
 

@@ -82,24 +82,25 @@ PARAMS = (
 )
 
 
-def check_settings(lookup, node_name='/teleop_keyboard'):
+def check_settings(lookup, node_name='/teleop_keyboard', given=frozenset()):
     """Read and check the node's parameters; return {name: float}.
 
-    ``lookup(name, default)`` gives a raw value (for the node,
-    ``rospy.get_param('~' + name, default)``). Raises ValueError naming
-    every unusable value, with '~' before each name as the user writes it,
-    and the ``rosparam delete`` that clears each from the node
-    ``node_name``; a speed above its maximum is reported once the values
-    themselves pass.
+    ``lookup(name, default)`` gives a raw value (for the node, its private
+    namespace's). Raises ValueError naming every unusable value, with '~'
+    before each name as the user writes it, and the ``rosparam delete``
+    that clears each not in ``given`` (the command line's, which a refused
+    node leaves off the master) from the node ``node_name``; a speed above
+    its maximum is reported once the values themselves pass.
     """
-    values = params.check_all(PARAMS, lookup, node_name)
+    values = params.check_all(PARAMS, lookup, node_name, given)
     too_fast = [speed for speed in ('linear_speed', 'angular_speed')
                 if values[speed] > values['max_' + speed]]
     if too_fast:
-        raise ValueError('%s. %s' % ('; '.join(
+        stored = [speed for speed in too_fast if speed not in given]
+        raise ValueError('. '.join(['; '.join(
             '~%s must be <= ~max_%s (%g), got %g' % (
                 speed, speed, values['max_' + speed], values[speed])
-            for speed in too_fast), params.clear_text(node_name, too_fast)))
+            for speed in too_fast)] + ([params.clear_text(node_name, stored)] if stored else [])))
     return values
 
 

@@ -19,10 +19,10 @@ import warnings
 import rospy
 from geometry_msgs.msg import Twist
 
-from rbx1_nav.common import params
+from rbx1_nav.common import params, params_given
 from rbx1_nav.common.cmd_vel_watch_ros import watch_publishers
-from rbx1_nav.common.node_ros import (exit_if_help, mend_rospy_shutdown,
-                                      shut_down_on_signals)
+from rbx1_nav.common.node_ros import (exit_if_help, init_node, keep_command_line,
+                                      mend_rospy_shutdown, private_params, shut_down_on_signals)
 from rbx1_nav.motion.teleop import NOT_A_TERMINAL, KeyboardTeleop, check_settings, help_text
 from rbx1_nav.motion.command import STOP
 
@@ -147,14 +147,16 @@ def main(specs, doc):
     # Closing the terminal window (SIGHUP) must stop the robot too.
     shut_down_on_signals((signal.SIGINT, signal.SIGTERM, signal.SIGHUP))
     mend_rospy_shutdown()
-    rospy.init_node('teleop_keyboard', disable_signals=True)
+    init_node('teleop_keyboard', disable_signals=True)
     try:
-        settings = check_settings(
-            lambda name, default: rospy.get_param('~' + name, default),
-            rospy.get_name())
-    except ValueError as err:
+        given, before = private_params()
+        settings = check_settings(lambda name, default: given[name] if name in given else
+                                  params_given.lookup(before, name, default),
+                                  rospy.get_name(), given)
+    except (ValueError, rospy.ROSInitException) as err:
         rospy.logerr('teleop_keyboard: bad parameters, not starting: %s', err)
         return 1
+    keep_command_line(given, before)
     rospy.loginfo('teleop_keyboard: publishing %s; %s', rospy.resolve_name(
         'cmd_vel'), params.start_text(specs, settings))
     node = TeleopKeyboard(settings)

@@ -14,7 +14,7 @@ import rospy
 
 from rbx1_nav.sim_time import member_ros as lockstep
 from rbx1_nav.sim_time.member import BACK
-from rbx1_nav.common.node_ros import start_node
+from rbx1_nav.common.node_ros import forget_command_line, start_node
 from rbx1_nav.sim.bag_play import Schedule
 
 #: Progress lines: one every tenth of the bag.
@@ -71,6 +71,7 @@ def main(name, specs, doc):
                        'player needs lockstep simulated time (roslaunch rbx1_nav '
                        'sim_clock.launch sim_speed:=max); for real time use '
                        'rosbag play', name)
+        forget_command_line()
         return 1
     member = lockstep.Member()
     try:
@@ -78,6 +79,7 @@ def main(name, specs, doc):
         pubs = _publishers(member, bag, values['topics'], name)
     except (OSError, ValueError, rosbag.ROSBagException) as err:
         rospy.logfatal('%s: cannot play %s: %s', name, values['bag'], err)
+        forget_command_line()
         return 1
     rospy.on_shutdown(member.leave)
     _wait_for_subscribers(pubs, values['subscribers'], values['subscriber_wait'], name)

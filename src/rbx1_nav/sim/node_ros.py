@@ -11,7 +11,7 @@ import rospy
 from rbx1_nav.sim.already_up_ros import refuse_if_running
 from rbx1_nav.sim.loop_ros import spin_simulator
 from rbx1_nav.sim.topics_ros import RobotTopics, make_fleet
-from rbx1_nav.common.node_ros import start_node, until_shutdown
+from rbx1_nav.common.node_ros import forget_command_line, start_node, until_shutdown
 
 __all__ = ['Simulator', 'fake_turtlebot', 'fake_fleet']
 
@@ -57,6 +57,7 @@ def _run(name, specs, doc, make):
         simulator = make(values)
     except (ValueError, ImportError) as err:
         rospy.logfatal('%s: %s', name, err)
+        forget_command_line()
         return 1
     until_shutdown(simulator.spin)
     return 0
