@@ -14,14 +14,16 @@ launch still running (a fleet's courses), the wrapper exits with the
 node's status and leaves the launch alone.
 
 Under roslaunch, once the node has ended it also removes the node's
-private parameters from the master (a later rosrun of it starts fresh) and,
-in a launch started by launch_status.py, records the node's status for it.
+private parameters from the master (a later rosrun of it starts fresh),
+after a node that published the launch's clock (rosbag play --clock) the
+launch's /use_sim_time and /lockstep, unless another clock runs, and, in a
+launch started by launch_status.py, records the node's status for it.
 See rbx1_nav.common.launch_end.
 """
 import sys
 
 from rbx1_nav.common.launch_end import run
-from rbx1_nav.common.launch_end_ros import forget_params
+from rbx1_nav.common.launch_end_ros import end_sim_time, forget_params
 
 if __name__ == '__main__':
-    sys.exit(run(sys.argv[1:], __doc__, forget=forget_params))
+    sys.exit(run(sys.argv[1:], __doc__, forget=forget_params, end_clock=end_sim_time))

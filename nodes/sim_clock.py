@@ -20,10 +20,13 @@ Publishes:  /clock (rosgraph_msgs/Clock), /lockstep_grant
             (rbx1_nav/LockstepGrant, under /lockstep)
 Subscribes: /lockstep_report (rbx1_nav/LockstepReport, under /lockstep)
 sim_clock.launch sets ~speed from its arg sim_speed (a number, or max),
-~members from members and the global /lockstep from lockstep (true).
+~members from members and the global /lockstep from lockstep (true), and
+/use_sim_time; with ~clear_sim_time (its launch's) this node removes both
+as that roslaunch ends, unless another node still publishes /clock, so a
+later rosrun does not wait for a clock that has gone.
 """
 from rbx1_nav.common.node_ros import exit_node
-from rbx1_nav.common.params import integer, number, param
+from rbx1_nav.common.params import flag, integer, number, param
 from rbx1_nav.sim_time.clock_ros import sim_clock
 from rbx1_nav.sim_time.lockstep_ros import FIRST_MEMBER
 from rbx1_nav.sim_time.pacer import MAX_SPEED, MAX_START, MAX_STEP, MIN_SPEED, MIN_STEP, speed
@@ -45,6 +48,9 @@ PARAMS = (
           minimum=1),
     param('member_wait', FIRST_MEMBER, number, 's', 'wall time to wait for '
           'them before starting without the others', minimum=0.0),
+    param('clear_sim_time', False, flag, '', 'at its end under roslaunch, '
+          'remove /use_sim_time and /lockstep (its launch set them) unless '
+          'another node publishes /clock (sim_clock.launch: true)'),
 )
 
 NAME = 'sim_clock'

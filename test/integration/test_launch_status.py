@@ -50,16 +50,21 @@ def course_logs(log_dir, node):
 
 
 def test_launch_status_exits_with_the_courses_status(graph, tmp_path):
+    before = set(graph.master.getParamNames())
     done = launch_status(graph, 'nav_square.launch', 'sim:=true', 'sim_speed:=max')
     assert done.returncode == 0, done.stdout[-4000:]
     assert 'Course complete' in done.stdout
     assert done.stdout.rstrip().endswith('launch_status: nav_square exited 0'), done.stdout[-2000:]
+    # The launch set /use_sim_time and /lockstep for its nodes; its clock
+    # removed them as it ended: the master's simulated time as before it.
+    after = set(graph.master.getParamNames())
+    assert not {'/use_sim_time', '/lockstep'} & before, before
+    assert not {'/use_sim_time', '/lockstep'} & after, sorted(after)
 
     # No robot: the course gives up after ~tf_wait (5 wall s) and exits 1;
     # roslaunch alone would exit 0. Real time, as a user with no robot has
-    # it: the launch above left /use_sim_time true (the course would give up
-    # for want of /clock instead).
-    graph.master.setParam('/use_sim_time', False)
+    # it (with /use_sim_time left true the course would give up for want of
+    # /clock instead).
     failed = launch_status(graph, 'odom_out_and_back.launch')
     assert failed.returncode == 1, failed.stdout[-4000:]
     # The course's own reason, not any failure (a traceback exits 1 too),

@@ -114,6 +114,7 @@ def dump_params(launch, *args):
     (['fleet.launch', 'n:=2', 'sim_speed:=max'], True),
 ])
 def test_a_launch_that_starts_a_robot_sets_use_sim_time(args, sim_time):
-    """A launch with sim_speed leaves /use_sim_time true on the master: a
-    later real-time launch must set it back."""
+    """A launch with sim_speed killed before its sim_clock removed
+    /use_sim_time leaves it true on the master: a later real-time launch
+    must set it back."""
     assert dump_params(*args)['/use_sim_time'] is sim_time

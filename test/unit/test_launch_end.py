@@ -81,3 +81,36 @@ def test_launch_status_without_arguments_prints_its_help(capsys):
     from rbx1_nav.common.launch_end import run_launch
     assert run_launch([], 'the doc\n') == 2
     assert capsys.readouterr().out == 'the doc\n'
+
+
+def test_a_launchs_clock_clears_its_simulated_time_unless_another_clock_runs():
+    from rbx1_nav.common.launch_end import sim_time_to_clear
+    assert sim_time_to_clear(True, []) == ('/use_sim_time', '/lockstep')
+    # A bag played with --clock, or a sim_clock started by hand, still
+    # serves nodes that read /use_sim_time as they start.
+    assert sim_time_to_clear(True, ['/play_bag']) == ()
+    # A clock the user started (rosrun sim_clock.py): the user set them.
+    assert sim_time_to_clear(False, []) == ()
+
+
+def test_the_wrappers_clock_is_a_node_that_publishes_clock():
+    from rbx1_nav.common.launch_end import publishes_clock
+    assert publishes_clock(['/opt/ros/lib/rosbag/play', '--clock', '--delay=2', 'c.bag'])
+    assert not publishes_clock(['/opt/ros/lib/rosbag/play', 'c.bag'])
+    assert not publishes_clock(['--clock'])
+
+
+def test_the_parent_is_roslaunch_only_under_roslaunch(tmp_path):
+    from rbx1_nav.common.launch_end import parent_is_roslaunch
+    assert not parent_is_roslaunch()  # pytest's parent
+    proc = tmp_path / str(os.getppid())
+    proc.mkdir()
+    (proc / 'cmdline').write_bytes(b'\0'.join(arg.encode() for arg in ROSLAUNCH) + b'\0')
+    assert parent_is_roslaunch(str(tmp_path))
+    assert not parent_is_roslaunch(str(tmp_path / 'none'))
+
+
+def test_end_clock_is_called_only_under_roslaunch():
+    ended = []
+    assert run(['true', '--clock'], 'doc', end_clock=lambda: ended.append(1)) == 0
+    assert ended == []  # pytest is not roslaunch

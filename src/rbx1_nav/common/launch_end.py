@@ -18,6 +18,12 @@ do not stay behind for a later rosrun of the same node; and, when
 nodes/launch_status.py started the launch, writes the node's status where
 that program finds it: roslaunch exits 0 even when a required node failed,
 launch_status.py exits with the course's status (:func:`launch_status`).
+
+A launch with simulated time sets the global /use_sim_time (and /lockstep),
+which roslaunch also leaves on the master: a later rosrun would wait for a
+/clock that no longer comes. The launch's clock removes them as it ends
+(:func:`sim_time_to_clear`): sim_clock.py, or this wrapper around
+``rosbag play --clock``.
 """
 import os
 import signal
@@ -27,7 +33,8 @@ import time
 
 __all__ = ['is_roslaunch', 'others_running', 'processes', 'node_name', 'run',
            'record_status', 'read_statuses', 'launch_status', 'run_launch',
-           'STATUS_DIR']
+           'STATUS_DIR', 'SIM_TIME_PARAMS', 'sim_time_to_clear', 'parent_is_roslaunch',
+           'publishes_clock']
 
 SCRIPT = 'end_launch_on_success.py'
 #: The environment variable that tells wrapped nodes where to record their
@@ -44,6 +51,37 @@ def is_roslaunch(argv):
 
 def _is_wrapper(argv):
     return any(os.path.basename(arg) == SCRIPT for arg in argv[:2])
+
+
+#: The global parameters a launch's simulated time sets (sim_clock.launch,
+#: pose_ekf_replay.launch), for the nodes of the launch.
+SIM_TIME_PARAMS = ('/use_sim_time', '/lockstep')
+
+
+def sim_time_to_clear(launch_clock, other_clocks):
+    """The SIM_TIME_PARAMS to remove as a clock ends: all of them if it was
+    its roslaunch's clock (``launch_clock``), unless ``other_clocks``
+    (other running nodes publishing /clock: a bag played with --clock, a
+    sim_clock started by hand) still serve nodes that read them as they
+    start; else none. Absent, every node reads /use_sim_time as false."""
+    return SIM_TIME_PARAMS if launch_clock and not other_clocks else ()
+
+
+def parent_is_roslaunch(root='/proc'):
+    """True if this process's parent is roslaunch's main process (not
+    rostest, whose graph ends with its own master)."""
+    try:
+        with open(os.path.join(root, str(os.getppid()), 'cmdline'), 'rb') as f:
+            argv = f.read().decode(errors='replace').split('\0')[:-1]
+    except OSError:
+        return False
+    return is_roslaunch(argv)
+
+
+def publishes_clock(argv):
+    """True if the command line ``argv`` is a node that publishes /clock
+    (``rosbag play --clock``)."""
+    return '--clock' in argv[1:]
 
 
 def others_running(me, procs):
@@ -155,12 +193,14 @@ def run_launch(args, doc):
     return status
 
 
-def run(argv, doc, forget=None):
+def run(argv, doc, forget=None, end_clock=None):
     """Run the node ``argv``; once it exits 0, end the roslaunch that
     started it as Ctrl-C does (see the module docstring). Its exit status.
 
     ``forget(name)``, under roslaunch, removes the ended node's private
-    parameters (the global name ``name``) from the master."""
+    parameters (the global name ``name``) from the master; ``end_clock()``,
+    under roslaunch, after a node that published /clock, removes what
+    :func:`sim_time_to_clear` says."""
     if not argv or argv[0] in ('-h', '--help'):
         print(doc.strip())
         return 0 if argv else 2
@@ -182,6 +222,8 @@ def run(argv, doc, forget=None):
     if under_roslaunch:
         if forget:
             forget('/' + name)
+        if end_clock and publishes_clock(argv):
+            end_clock()
         if os.environ.get(STATUS_DIR):
             try:
                 record_status(os.environ[STATUS_DIR], name, status)

@@ -7,8 +7,8 @@ def no_clock_text(waited):
     """What to do when no /clock came under /use_sim_time for ``waited`` wall s."""
     return ('/use_sim_time is true but nothing publishes /clock after %.1f s: a launch with '
             'sim_speed:=N (or sim_clock.launch) publishes it; for real time, `rosparam set '
-            '/use_sim_time false` and start this again (a launch with sim_speed leaves '
-            '/use_sim_time true on the master after it ends)' % waited)
+            '/use_sim_time false` and start this again (left true by a launch with sim_speed '
+            'that was killed, or by rosparam set)' % waited)
 
 
 class ClockWatch(object):

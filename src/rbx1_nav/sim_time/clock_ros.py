@@ -8,6 +8,8 @@ import time
 import rospy
 
 from rbx1_nav.sim_time.member_ros import enabled as lockstep_enabled
+from rbx1_nav.common.launch_end import parent_is_roslaunch
+from rbx1_nav.common.launch_end_ros import end_sim_time
 from rbx1_nav.common.node_ros import start_node
 from rbx1_nav.sim_time import lockstep_ros
 from rbx1_nav.sim_time.pacer import ClockPacer
@@ -50,10 +52,21 @@ def run_lockstep(pacer, speed, idle_speed, members=1, member_wait=lockstep_ros.F
 def sim_clock(specs, doc):
     """nodes/sim_clock.py: read ``specs`` (``doc`` heads --help), then
     publish /clock, owning simulated time under /lockstep, until shutdown;
-    the exit status (1: a bad parameter)."""
+    the exit status (1: a bad parameter). With ~clear_sim_time, the clock
+    of a roslaunch removes its launch's /use_sim_time and /lockstep as it
+    ends (rbx1_nav.common.launch_end.sim_time_to_clear)."""
     values = start_node('sim_clock', specs, doc, clock=False)
     if values is None:
         return 1
+    try:
+        return _publish(values)
+    finally:
+        if values['clear_sim_time'] and parent_is_roslaunch():
+            end_sim_time(rospy.get_name())
+
+
+def _publish(values):
+    """/clock, as ``values`` say, until shutdown; the exit status."""
     speed = values['speed']
     pacer = ClockPacer(speed, values['step'], values['start_time'])
     if not rospy.get_param('/use_sim_time', False):

@@ -57,8 +57,8 @@ def no_owner_text(log_name, waited):
     return ('%s: simulated time is set (/use_sim_time and /lockstep true) '
             'but nothing has granted a step on %s for %.0f s: no sim_clock '
             'runs. For real time, `rosparam set /use_sim_time false` and start '
-            'this again (a launch with sim_speed leaves /use_sim_time true on '
-            'the master after it ends); for simulated time, roslaunch rbx1_nav '
+            'this again (left true by a launch with sim_speed that was killed, '
+            'or by rosparam set); for simulated time, roslaunch rbx1_nav '
             'sim_clock.launch' % (log_name, GRANT_TOPIC, waited))
 
 
