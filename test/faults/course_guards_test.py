@@ -58,7 +58,7 @@ from rbx1_nav.common.publish_ros import to_ns  # noqa: E402
 #: A short course: one leg.
 SHORT = {'legs': 1, 'goal_distance': 0.5, 'tf_timeout': 5.0}
 #: A course's first line, logged once it has simulated time.
-STARTED = 'every parameter at its default'
+STARTED = 'parameter at its default'
 
 
 
@@ -209,7 +209,7 @@ class CourseGuardsTest(unittest.TestCase):
             if not second:
                 if watch.moved_since(start) < 0.1:
                     return False
-                second.append(CourseProcess(script='nav_square.py'))
+                second.append(CourseProcess(script='nav_square.py', params={'rate': 20.0}))
             course = second[0]
             if course.node_name in reporters or not course.running():
                 return False
@@ -242,6 +242,8 @@ class CourseGuardsTest(unittest.TestCase):
                       'first: rosnode kill /odom_out_and_back', line)
         self.assertNotIn('Course complete', second[0].output)
         self.assertEqual([m for who, m in commands.heard if who == second[0].node_name], [])
+        # It did not start: its command line's _rate:=20.0 is not left on the master.
+        self.assertFalse(rospy.has_param(second[0].node_name), rospy.get_param_names())
         # The first drove on and ended where it ends alone (the pure model; lockstep: 0.1 mm).
         self.assertEqual(status, 0, first.output)
         self.assertIn('Course complete', first.output)

@@ -307,4 +307,7 @@ def run_course_node(name, specs, build_course, require_tf=True, doc=None):
     def work():
         runner.summarize(course, runner.run(course))
 
-    return guarded(name, runner, work)
+    status = guarded(name, runner, work)
+    if runner.yielded:  # it did not start: the master as it found it, as for a refused start
+        forget_command_line()
+    return status
