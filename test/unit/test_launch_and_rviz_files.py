@@ -118,3 +118,19 @@ def test_a_launch_that_starts_a_robot_sets_use_sim_time(args, sim_time):
     /use_sim_time leaves it true on the master: a later real-time launch
     must set it back."""
     assert dump_params(*args)['/use_sim_time'] is sim_time
+
+
+@pytest.mark.parametrize('launch', ['fake_turtlebot.launch',
+                                    os.path.join(BRINGUP, 'launch', 'fake_turtlebot.launch')],
+                         ids=['rbx1_nav', 'rbx1_bringup'])
+def test_the_fake_robot_takes_its_commands_where_cmd_vel_says(launch):
+    """`roslaunch ... fake_turtlebot.launch cmd_vel:=mobile_base/commands/velocity`
+    stands in a TurtleBot 2: the fake robot's command line remaps its
+    cmd_vel; without the argument it has no remap of cmd_vel, which would
+    replace one made around the include (test/rostest/turtlebot2_remap.test)."""
+    dump_params('fake_turtlebot.launch')  # skips without a sourced workspace
+    given = launch_reading.node_command('/fake_turtlebot', launch, 'realistic:=true',
+                                        'cmd_vel:=mobile_base/commands/velocity').split()
+    assert 'cmd_vel:=mobile_base/commands/velocity' in given, given
+    plain = launch_reading.node_command('/fake_turtlebot', launch).split()
+    assert not [word for word in plain if word.startswith('cmd_vel:=')], plain
