@@ -1,5 +1,8 @@
 """Waiting for a test's own master, and asking it for a node (imported,
 not a node)."""
+import os
+import signal
+import subprocess
 import time
 import xmlrpc.client
 
@@ -32,3 +35,17 @@ def node_pid(master, name):
     code, message, pid = node.getPid(master.caller_id)
     assert code == 1, (name, message)
     return pid
+
+
+def end_processes(procs, wait):
+    """End the process groups of ``procs`` (Popen, started with a session of their own), the last
+    started first: SIGINT, as Ctrl-C, then SIGKILL to any not gone in ``wait`` s."""
+    for proc in reversed(procs):
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGINT)
+    for proc in reversed(procs):
+        try:
+            proc.wait(wait)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()

@@ -34,7 +34,7 @@ import pytest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, '..', 'helpers'))
-from master import HANG_GUARD, wait_for_master  # noqa: E402
+from master import HANG_GUARD, end_processes, wait_for_master  # noqa: E402
 from other_python import lacks_rospy, path_with_other_python  # noqa: E402
 from ports import free_port  # noqa: E402
 
@@ -142,15 +142,7 @@ class Shells(object):
         return tuple(float(f) for f in rows[-1]) if rows else None
 
     def close(self):
-        for proc in reversed(self.procs):
-            if proc.poll() is None:
-                os.killpg(proc.pid, signal.SIGINT)
-        for proc in reversed(self.procs):
-            try:
-                proc.wait(20)
-            except subprocess.TimeoutExpired:
-                os.killpg(proc.pid, signal.SIGKILL)
-                proc.wait()
+        end_processes(self.procs, 20)
 
 
 @pytest.fixture

@@ -12,7 +12,6 @@ Each test starts its own roscore on a free port and kills every process it
 started (rbx1_nav.sim.already_up)."""
 import os
 import shutil
-import signal
 import subprocess
 import sys
 import time
@@ -22,7 +21,7 @@ import pytest
 import rosgraph
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'helpers'))
-from master import HANG_GUARD, node_pid, wait_for_master  # noqa: E402
+from master import HANG_GUARD, end_processes, node_pid, wait_for_master  # noqa: E402
 from ports import free_port  # noqa: E402
 from rosrun import rosrun  # noqa: E402
 
@@ -96,15 +95,7 @@ class Graph(object):
         return float(values[-1]) if values else None
 
     def close(self):
-        for proc in reversed(self.procs):
-            if proc.poll() is None:
-                os.killpg(proc.pid, signal.SIGINT)
-        for proc in reversed(self.procs):
-            try:
-                proc.wait(15)
-            except subprocess.TimeoutExpired:
-                os.killpg(proc.pid, signal.SIGKILL)
-                proc.wait()
+        end_processes(self.procs, 15)
 
 
 @pytest.fixture
