@@ -18,10 +18,14 @@ The first six parameters below are the reconfigure fields
 (rbx1_nav.cfg.CalibrateAngularConfig): dynparam sets them while the node
 runs; the rest are read at start-up.
 """
-from rbx1_nav.calibration.scale import ANGULAR
-from rbx1_nav.cfg import CalibrateAngularConfig
-from rbx1_nav.calibration.scale_ros import main, node_params
-from rbx1_nav.common.node_ros import exit_node
+import signal
+
+signal.signal(signal.SIGINT, signal.SIG_DFL)  # a signal during the imports: gone, quietly
+
+from rbx1_nav.calibration.scale import ANGULAR  # noqa: E402
+from rbx1_nav.cfg import CalibrateAngularConfig  # noqa: E402
+from rbx1_nav.calibration.scale_ros import main, node_params  # noqa: E402
+from rbx1_nav.common.node_ros import exit_node  # noqa: E402
 
 NAME = 'calibrate_angular'
 PARAMS = node_params(CalibrateAngularConfig)

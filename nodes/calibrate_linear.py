@@ -17,10 +17,14 @@ The first six parameters below are the reconfigure fields
 (rbx1_nav.cfg.CalibrateLinearConfig): dynparam sets them while the node
 runs; the rest are read at start-up.
 """
-from rbx1_nav.calibration.scale import LINEAR
-from rbx1_nav.cfg import CalibrateLinearConfig
-from rbx1_nav.calibration.scale_ros import main, node_params
-from rbx1_nav.common.node_ros import exit_node
+import signal
+
+signal.signal(signal.SIGINT, signal.SIG_DFL)  # a signal during the imports: gone, quietly
+
+from rbx1_nav.calibration.scale import LINEAR  # noqa: E402
+from rbx1_nav.cfg import CalibrateLinearConfig  # noqa: E402
+from rbx1_nav.calibration.scale_ros import main, node_params  # noqa: E402
+from rbx1_nav.common.node_ros import exit_node  # noqa: E402
 
 NAME = 'calibrate_linear'
 PARAMS = node_params(CalibrateLinearConfig)

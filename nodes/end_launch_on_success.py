@@ -20,10 +20,13 @@ launch's /use_sim_time and /lockstep, unless another clock runs, and, in a
 launch started by launch_status.py, records the node's status for it.
 See rbx1_nav.common.launch_end.
 """
+import signal
 import sys
 
-from rbx1_nav.common.launch_end import run
-from rbx1_nav.common.launch_end_ros import end_sim_time, forget_params
+signal.signal(signal.SIGINT, signal.SIG_DFL)  # a signal during the imports: gone, quietly
+
+from rbx1_nav.common.launch_end import run  # noqa: E402
+from rbx1_nav.common.launch_end_ros import end_sim_time, forget_params  # noqa: E402
 
 if __name__ == '__main__':
     sys.exit(run(sys.argv[1:], __doc__, forget=forget_params, end_clock=end_sim_time))

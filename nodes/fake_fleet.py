@@ -24,9 +24,13 @@ Parameters:  ~robots and every parameter of fake_turtlebot.py
              generator for the fleet (seeded by ~seed), each robot's GPS
              from its own.
 """
-from rbx1_nav.common.node_ros import exit_node
-from rbx1_nav.sim.node_ros import fake_fleet
-from rbx1_nav.sim.params import PARAMS as ROBOT_PARAMS, ROBOTS
+import signal
+
+signal.signal(signal.SIGINT, signal.SIG_DFL)  # a signal during the imports: gone, quietly
+
+from rbx1_nav.common.node_ros import exit_node  # noqa: E402
+from rbx1_nav.sim.node_ros import fake_fleet  # noqa: E402
+from rbx1_nav.sim.params import PARAMS as ROBOT_PARAMS, ROBOTS  # noqa: E402
 
 PARAMS = (ROBOTS,) + ROBOT_PARAMS
 

@@ -27,9 +27,13 @@ Parameters:  rbx1_nav.sim.params.PARAMS (--help lists them), every field
 The topics are rbx1_nav.sim.topics_ros.RobotTopics, shared with
 fake_fleet.py (N robots in one process).
 """
-from rbx1_nav.common.node_ros import exit_node
-from rbx1_nav.sim.node_ros import fake_turtlebot
-from rbx1_nav.sim.params import PARAMS
+import signal
+
+signal.signal(signal.SIGINT, signal.SIG_DFL)  # a signal during the imports: gone, quietly
+
+from rbx1_nav.common.node_ros import exit_node  # noqa: E402
+from rbx1_nav.sim.node_ros import fake_turtlebot  # noqa: E402
+from rbx1_nav.sim.params import PARAMS  # noqa: E402
 
 NAME = 'fake_turtlebot'
 

@@ -15,9 +15,12 @@ and prints one line saying which:
 Ctrl-C goes to roslaunch as usual (the course then exits 1). See
 rbx1_nav.common.launch_end.
 """
+import signal
 import sys
 
-from rbx1_nav.common.launch_end import run_launch
+signal.signal(signal.SIGINT, signal.SIG_DFL)  # a signal during the imports: gone, quietly
+
+from rbx1_nav.common.launch_end import run_launch  # noqa: E402
 
 if __name__ == '__main__':
     sys.exit(run_launch(sys.argv[1:], __doc__))

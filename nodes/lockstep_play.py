@@ -19,9 +19,13 @@ bag or parameter, or without lockstep. For real time, use rosbag play.
 Publishes:  each played topic under its relative name, /lockstep_report
 Subscribes: /lockstep_grant
 """
-from rbx1_nav.common.node_ros import exit_node
-from rbx1_nav.common.params import integer, number, param, text
-from rbx1_nav.sim.bag_play_ros import main
+import signal
+
+signal.signal(signal.SIGINT, signal.SIG_DFL)  # a signal during the imports: gone, quietly
+
+from rbx1_nav.common.node_ros import exit_node  # noqa: E402
+from rbx1_nav.common.params import integer, number, param, text  # noqa: E402
+from rbx1_nav.sim.bag_play_ros import main  # noqa: E402
 
 PARAMS = (
     param('bag', '', text, '', 'the bag file to play'),

@@ -18,9 +18,13 @@ Exit status: 0 after a completed square, 1 otherwise; the robot is always
 sent a stop.
 """
 
-from rbx1_nav.common.node_ros import exit_node
-from rbx1_nav.motion.book import NAV_SQUARE
-from rbx1_nav.motion.runner_ros import common_params, run_course_node
+import signal
+
+signal.signal(signal.SIGINT, signal.SIG_DFL)  # a signal during the imports: gone, quietly
+
+from rbx1_nav.common.node_ros import exit_node  # noqa: E402
+from rbx1_nav.motion.book import NAV_SQUARE  # noqa: E402
+from rbx1_nav.motion.runner_ros import common_params, run_course_node  # noqa: E402
 
 NAME = 'nav_square'
 PARAMS = NAV_SQUARE.params + common_params(rate=NAV_SQUARE.rate)

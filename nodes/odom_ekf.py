@@ -25,9 +25,13 @@ new clock. Should the ROS master restart, the node says so within a few
 seconds and registers its topics with the new master, so RViz and new
 nodes find them again (rbx1_nav.common.master_ros); its connections go on.
 """
-from rbx1_nav.common.node_ros import exit_node
-from rbx1_nav.common.params import POSITIVE, flag, frame, number, param
-from rbx1_nav.estimation.odom_ekf_ros import main
+import signal
+
+signal.signal(signal.SIGINT, signal.SIG_DFL)  # a signal during the imports: gone, quietly
+
+from rbx1_nav.common.node_ros import exit_node  # noqa: E402
+from rbx1_nav.common.params import POSITIVE, flag, frame, number, param  # noqa: E402
+from rbx1_nav.estimation.odom_ekf_ros import main  # noqa: E402
 
 NAME = 'odom_ekf'
 

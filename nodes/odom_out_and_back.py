@@ -16,9 +16,13 @@ nodes or jumping further than the robot moves, an error or an
 interruption. The robot is always sent a stop.
 """
 
-from rbx1_nav.common.node_ros import exit_node
-from rbx1_nav.motion.book import OUT_AND_BACK
-from rbx1_nav.motion.runner_ros import common_params, run_course_node
+import signal
+
+signal.signal(signal.SIGINT, signal.SIG_DFL)  # a signal during the imports: gone, quietly
+
+from rbx1_nav.common.node_ros import exit_node  # noqa: E402
+from rbx1_nav.motion.book import OUT_AND_BACK  # noqa: E402
+from rbx1_nav.motion.runner_ros import common_params, run_course_node  # noqa: E402
 
 NAME = 'odom_out_and_back'
 PARAMS = OUT_AND_BACK.params + common_params(rate=OUT_AND_BACK.rate)

@@ -43,9 +43,13 @@ Should the ROS master restart, the node says so within a few seconds and
 registers its topics, tf and service with the new master, so RViz and new
 nodes find them again (rbx1_nav.common.master_ros); its connections go on.
 """
-from rbx1_nav.common import params
-from rbx1_nav.common.node_ros import exit_node
-from rbx1_nav.estimation.pose_ekf_ros import main
+import signal
+
+signal.signal(signal.SIGINT, signal.SIG_DFL)  # a signal during the imports: gone, quietly
+
+from rbx1_nav.common import params  # noqa: E402
+from rbx1_nav.common.node_ros import exit_node  # noqa: E402
+from rbx1_nav.estimation.pose_ekf_ros import main  # noqa: E402
 
 NAME = 'pose_ekf'
 MIN_FREQ, MAX_FREQ = 0.01, 1000.0  # Hz, bounds of ~freq

@@ -25,11 +25,15 @@ sim_clock.launch sets ~speed from its arg sim_speed (a number, or max),
 as that roslaunch ends, unless another node still publishes /clock, so a
 later rosrun does not wait for a clock that has gone.
 """
-from rbx1_nav.common.node_ros import exit_node
-from rbx1_nav.common.params import flag, integer, number, param
-from rbx1_nav.sim_time.clock_ros import sim_clock
-from rbx1_nav.sim_time.lockstep_ros import FIRST_MEMBER
-from rbx1_nav.sim_time.pacer import MAX_SPEED, MAX_START, MAX_STEP, MIN_SPEED, MIN_STEP, speed
+import signal
+
+signal.signal(signal.SIGINT, signal.SIG_DFL)  # a signal during the imports: gone, quietly
+
+from rbx1_nav.common.node_ros import exit_node  # noqa: E402
+from rbx1_nav.common.params import flag, integer, number, param  # noqa: E402
+from rbx1_nav.sim_time.clock_ros import sim_clock  # noqa: E402
+from rbx1_nav.sim_time.lockstep_ros import FIRST_MEMBER  # noqa: E402
+from rbx1_nav.sim_time.pacer import MAX_SPEED, MAX_START, MAX_STEP, MIN_SPEED, MIN_STEP, speed  # noqa: E402
 
 PARAMS = (
     param('speed', 1.0, speed, 'x real time', 'simulated seconds per wall '

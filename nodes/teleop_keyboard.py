@@ -15,9 +15,13 @@ launch-prefix="xterm -e". Exit status: 0 after a quit (key, Ctrl-C, SIGINT,
 SIGTERM, rosnode kill, terminal closed), 1 on bad parameters, no terminal or
 an error. The robot is always sent a stop and the terminal is restored.
 """
-from rbx1_nav.common.node_ros import exit_node
-from rbx1_nav.motion.teleop import PARAMS
-from rbx1_nav.motion.teleop_ros import main
+import signal
+
+signal.signal(signal.SIGINT, signal.SIG_DFL)  # a signal during the imports: gone, quietly
+
+from rbx1_nav.common.node_ros import exit_node  # noqa: E402
+from rbx1_nav.motion.teleop import PARAMS  # noqa: E402
+from rbx1_nav.motion.teleop_ros import main  # noqa: E402
 
 NAME = 'teleop_keyboard'
 

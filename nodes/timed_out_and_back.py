@@ -20,9 +20,13 @@ Exit status: 0 after a completed course, 1 otherwise; the robot is always
 sent a stop.
 """
 
-from rbx1_nav.common.node_ros import exit_node
-from rbx1_nav.motion.book import TIMED_OUT_AND_BACK
-from rbx1_nav.motion.runner_ros import common_params, run_course_node
+import signal
+
+signal.signal(signal.SIGINT, signal.SIG_DFL)  # a signal during the imports: gone, quietly
+
+from rbx1_nav.common.node_ros import exit_node  # noqa: E402
+from rbx1_nav.motion.book import TIMED_OUT_AND_BACK  # noqa: E402
+from rbx1_nav.motion.runner_ros import common_params, run_course_node  # noqa: E402
 
 NAME = 'timed_out_and_back'
 PARAMS = TIMED_OUT_AND_BACK.params + common_params(rate=TIMED_OUT_AND_BACK.rate)

@@ -33,14 +33,18 @@ Subscribes: odom (its velocity, as every motion node) and, when set,
 The paper's squares have 4 m sides; ~side defaults to 1 m. Exit status 0
 with a result, 1 otherwise.
 """
-from rbx1_nav.calibration.truth_ros import TRUTH_PARAM
-from rbx1_nav.calibration.umbmark_ros import NAME, main
-from rbx1_nav.common import params, params_lists
-from rbx1_nav.common.node_ros import exit_node
-from rbx1_nav.common.params import param
-from rbx1_nav.motion.command import MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED
-from rbx1_nav.motion.precise import PRECISE_PARAMS
-from rbx1_nav.motion.runner_ros import common_params
+import signal
+
+signal.signal(signal.SIGINT, signal.SIG_DFL)  # a signal during the imports: gone, quietly
+
+from rbx1_nav.calibration.truth_ros import TRUTH_PARAM  # noqa: E402
+from rbx1_nav.calibration.umbmark_ros import NAME, main  # noqa: E402
+from rbx1_nav.common import params, params_lists  # noqa: E402
+from rbx1_nav.common.node_ros import exit_node  # noqa: E402
+from rbx1_nav.common.params import param  # noqa: E402
+from rbx1_nav.motion.command import MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED  # noqa: E402
+from rbx1_nav.motion.precise import PRECISE_PARAMS  # noqa: E402
+from rbx1_nav.motion.runner_ros import common_params  # noqa: E402
 
 PARAMS = (
     param('runs', 5, params.integer, '', 'squares in each direction',

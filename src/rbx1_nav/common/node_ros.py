@@ -91,7 +91,9 @@ def wait_for_clock(limit=CLOCK_WAIT):
 
 
 def wait_for_master(name):
-    """Say so, once, while there is no master; Ctrl-C exits with status 1."""
+    """Say so, once, while there is no master. Ctrl-C ends the node: at once
+    in this package's nodes (their first line gives SIGINT its default
+    action), with status 1 where Python's KeyboardInterrupt is in place."""
     if rosgraph.is_master_online():
         return
     sys.stderr.write('%s: waiting for the ROS master at %s: start roscore, or check ROS_MASTER_URI '
@@ -116,10 +118,23 @@ def warn_unknown(name, specs, given):
     return True
 
 
-def init_node(name, **options):
-    """rospy.init_node without the command line's private parameters (common.params_given)."""
-    rospy.init_node(name, argv=[arg for arg in sys.argv if params_given.private_name(arg) is None],
-                    **options)
+def init_node(name):
+    """rospy.init_node without the command line's private parameters (common.params_given), with
+    this package's signal handling; False if a shutdown (a signal: roslaunch ending the launch,
+    Ctrl-C; or the master) came during it, which rospy raises as ROSInitException: the node then
+    ends quietly, never having started.
+
+    Before this, a node file sets SIGINT to its default action as its first line, so that a
+    signal while Python imports it ends it without a KeyboardInterrupt traceback;
+    shut_down_on_signals takes over from that."""
+    try:
+        rospy.init_node(name, disable_signals=True, argv=[
+            arg for arg in sys.argv if params_given.private_name(arg) is None])
+    except rospy.ROSInitException:
+        if rospy.core.is_shutdown_requested():
+            return False
+        raise
+    return True
 
 
 def private_params():
@@ -157,12 +172,14 @@ def start_node(name, specs, doc, clock=True):
     """--help (``doc`` and ``specs``), init_node, then read and log ``specs``;
     ``clock`` false (the node that publishes it) skips waiting for /clock.
     Returns the values, or None (logged) if one is unusable or unknown: then
-    the command line's ``_name:=value`` are not on the master (init_node)."""
+    the command line's ``_name:=value`` are not on the master (init_node); or
+    None (quietly) if the node was stopped while it started."""
     exit_if_help(specs, doc)
     wait_for_master(name)
     shut_down_on_signals()
     mend_rospy_shutdown()
-    init_node(name, disable_signals=True)
+    if not init_node(name):
+        return None
     cache_rosout_setting()
     if clock and not wait_for_clock(CLOCK_WAIT):
         rospy.logwarn('%s: %s; waiting for it', name, no_clock_text(CLOCK_WAIT))

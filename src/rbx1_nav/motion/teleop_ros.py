@@ -147,7 +147,8 @@ def main(specs, doc):
     # Closing the terminal window (SIGHUP) must stop the robot too.
     shut_down_on_signals((signal.SIGINT, signal.SIGTERM, signal.SIGHUP))
     mend_rospy_shutdown()
-    init_node('teleop_keyboard', disable_signals=True)
+    if not init_node('teleop_keyboard'):
+        return 0  # quit while starting: as after a quit
     try:
         given, before = private_params()
         settings = check_settings(lambda name, default: given[name] if name in given else
