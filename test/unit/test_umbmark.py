@@ -7,7 +7,7 @@ import pytest
 
 from ideal_robot import run
 from rbx1_nav.motion.precise import Approach
-from rbx1_nav.calibration.umbmark import (FALSE_ALARM, analyse, check_errors, corrections,
+from rbx1_nav.calibration.umbmark import (FALSE_ALARM, analyse, calibrated, check_errors, corrections,
                                           compare_text, critical, evaluate,
                                           first_order, load,
                                           parse_position, plot, relative, report,
@@ -225,23 +225,52 @@ def test_each_cluster_reports_its_scatter_and_the_standard_error():
             '20.2 mm (standard error), 1.5 standard errors from zero') in text
 
 
-def test_a_correction_within_the_noise_is_not_given_and_says_how_many_runs():
+def test_a_correction_within_the_noise_is_not_given_the_robot_is_calibrated():
     # The Husky's case: return positions scattered by 30-40 mm, as far as
     # the centres of gravity lie from zero.
     result = analyse(cluster((0.03, 0.0), 0.035), cluster((-0.02, 0.01), 0.035),
                      1.0, B)
-    assert not result.supported
+    assert not result.supported and calibrated(result)
     lines = report(result)
     assert not any('multiply' in line for line in lines)
     needed = runs_needed(result)
     # |cg| sqrt(n) / s > k(n): about (k s / |cg|)^2 runs, k about 2.
     assert 8 <= needed <= 12
     assert 0.03 * math.sqrt(needed) / (0.035 * math.sqrt(4 / 3)) > critical(needed)
-    assert lines[-1].startswith('E_max,syst 30.0 mm is within the noise: '
-                                'neither centre of gravity')
-    assert lines[-1].endswith('about %d runs each way (%d more) would tell a '
-                              'systematic error of this size from the scatter'
-                              % (needed, needed - 4))
+    assert lines[-1] == (
+        'the robot is calibrated, as far as 4 runs each way tell: E_max,syst '
+        '30.0 mm is within the noise (neither centre of gravity lies farther '
+        'from zero than chance puts it in 5 %% of benchmarks, %.1f standard '
+        'errors for 4 runs), so there is no correction to apply (one would '
+        'correct noise); a systematic error of this size would take about %d '
+        'runs each way (%d more) to tell from the scatter'
+        % (critical(4), needed, needed - 4))
+    assert 'supported' not in lines[-1]
+
+
+def test_after_a_correction_that_worked_the_robot_is_calibrated():
+    # A corrected robot: 5 runs each way scattered by about 25 mm (a 1 m
+    # square on realistic.yaml's encoders) about centres of gravity 4 mm
+    # from zero. No factor to apply, not even x1.00006.
+    result = analyse(cluster((0.004, 0.0), 0.025), cluster((-0.003, 0.002), 0.025),
+                     1.0, B)
+    assert calibrated(result)
+    text = '\n'.join(report(result))
+    assert report(result)[-1].startswith(
+        'the robot is calibrated, as far as 4 runs each way tell: E_max,syst '
+        '4.0 mm is within the noise')
+    assert 'so there is no correction to apply' in text
+    for word in ('multiply', 'the correction is supported', 'within the noise:'):
+        assert word not in text
+
+
+def test_identical_runs_back_at_the_start_say_the_robot_is_calibrated():
+    # A simulator without noise and without errors: every run returns.
+    result = analyse([[0.0, 0.0]] * 2, [[0.0, 0.0]] * 2, 1.0, B)
+    assert calibrated(result)
+    assert report(result)[-1] == ('the robot is calibrated: its runs are identical '
+                                  '(no noise) and E_max,syst is 0.0 mm, so there is '
+                                  'no correction to apply')
 
 
 def test_a_correction_beyond_the_noise_is_given():
@@ -257,9 +286,12 @@ def test_one_run_each_way_supports_no_correction():
     assert not result.supported and math.isnan(result.scatter_cw.sd)
     lines = report(result)
     assert 'no scatter measurable' in lines[2]
-    assert lines[-1].endswith('with one run each way no scatter can be '
-                              'measured: run at least 2 each way (5 or more '
-                              'is better)')
+    assert lines[-1] == ('with one run each way no scatter can be measured, so '
+                         'E_max,syst 70.7 mm cannot be told from noise: no '
+                         'correction is given, and the robot is not shown to be '
+                         'calibrated either; run at least 2 each way (5 or more '
+                         'is better)')
+    assert not calibrated(result)
     assert not any('multiply' in line for line in lines)
 
 

@@ -69,8 +69,10 @@ x and y (|cg|^2 / se^2 follows the F distribution with 2 and d degrees of
 freedom), at FALSE_ALARM / 2 per cluster. k is about 2 standard errors:
 2.5 for 5 runs, 2.0 for 20, 1.9 for very many; 6.2 for 2 runs, whose
 scatter is itself a rough guess. One run each way shows no scatter and
-supports nothing. When a correction is not supported, the runs each way
-that would make a systematic error of the size measured stand out are the
+supports nothing. When a correction is not supported by runs that show
+their scatter, the robot is calibrated as far as they can tell: there is
+no correction to apply (:func:`calibrated`), and the runs each way that
+would make a systematic error of the size measured stand out are the
 smallest n with |cg| sqrt(n) / s > k(n).
 
 The node's plain parts are here too (its ROS side is umbmark_ros): the run
@@ -87,7 +89,7 @@ from rbx1_nav.motion.course import Course
 from rbx1_nav.motion.steps import Drive, Pause, Turn
 
 __all__ = ['relative', 'square_course', 'check_errors', 'analyse',
-           'analyse_runs', 'Result', 'Scatter', 'FALSE_ALARM', 'critical',
+           'analyse_runs', 'Result', 'Scatter', 'FALSE_ALARM', 'critical', 'calibrated',
            'runs_needed', 'square_return', 'first_order',
            'corrections', 'report', 'plot', 'run_label', 'parse_position',
            'evaluate', 'results_record', 'save', 'load', 'compare_text',
@@ -189,6 +191,14 @@ def supports(scatters):
     :func:`critical` standard errors, in either direction."""
     return any(spread.runs > 1 and spread.distance > critical(spread.runs)
                for spread in scatters)
+
+
+def calibrated(result):
+    """True when runs that show their scatter (two or more each way)
+    support no correction: the robot is calibrated as far as they tell.
+    One run each way shows no scatter, and tells neither."""
+    return (not result.supported
+            and min(result.scatter_cw.runs, result.scatter_ccw.runs) > 1)
 
 
 def runs_needed(result, most=1000):
@@ -336,7 +346,8 @@ def report(result):
         % (result.ed, result.eb),
     ]
     if not result.supported:
-        return lines + [unsupported(result)]
+        return lines + [calibrated_text(result) if calibrated(result)
+                        else unsupported(result)]
     lines.append('E_max,syst is beyond the noise (a centre of gravity '
                  'farther from zero than chance puts it in %g %% of '
                  'benchmarks): the correction is supported'
@@ -356,26 +367,39 @@ def report(result):
     return lines
 
 
-def unsupported(result):
-    """The line saying that the correction is noise, and what would do."""
-    needed = runs_needed(result)
+def calibrated_text(result):
+    """The line saying that the robot is calibrated (:func:`calibrated`):
+    no correction to apply, and how many runs would show an error of the
+    size measured."""
     runs = min(result.scatter_cw.runs, result.scatter_ccw.runs)
-    if needed is None:
-        more = ('with one run each way no scatter can be measured: run at '
-                'least 2 each way (5 or more is better)')
-    elif math.isinf(needed):
-        more = ('over 1000 runs each way would be needed: no systematic '
-                'error shows against this scatter')
+    if result.scatter_cw.sd == result.scatter_ccw.sd == 0.0:
+        return ('the robot is calibrated: its runs are identical (no noise) '
+                'and E_max,syst is %.1f mm, so there is no correction to apply'
+                % (1000 * result.e_max))
+    needed = runs_needed(result)
+    if math.isinf(needed):
+        more = ('no systematic error shows against this scatter (over 1000 '
+                'runs each way would not tell one of this size)')
     else:
-        more = ('about %d runs each way (%d more) would tell a systematic '
-                'error of this size from the scatter' % (
+        more = ('a systematic error of this size would take about %d runs '
+                'each way (%d more) to tell from the scatter' % (
                     max(needed, runs + 1), max(needed - runs, 1)))
-    return ('E_max,syst %.1f mm is within the noise: neither centre of '
-            'gravity lies farther from zero than chance puts it in %g %% of '
-            'benchmarks (%.1f standard errors for %d runs), so the data do '
-            'not support a correction and none is given (setting one would '
-            'correct noise); %s' % (1000 * result.e_max, 100 * FALSE_ALARM,
-                                    critical(max(runs, 2)), runs, more))
+    return ('the robot is calibrated, as far as %d runs each way tell: '
+            'E_max,syst %.1f mm is within the noise (neither centre of gravity '
+            'lies farther from zero than chance puts it in %g %% of benchmarks, '
+            '%.1f standard errors for %d runs), so there is no correction to '
+            'apply (one would correct noise); %s' % (
+                runs, 1000 * result.e_max, 100 * FALSE_ALARM, critical(runs),
+                runs, more))
+
+
+def unsupported(result):
+    """The line for runs that show no scatter (one each way): they tell
+    neither a correction nor that the robot is calibrated."""
+    return ('with one run each way no scatter can be measured, so E_max,syst '
+            '%.1f mm cannot be told from noise: no correction is given, and '
+            'the robot is not shown to be calibrated either; run at least 2 '
+            'each way (5 or more is better)' % (1000 * result.e_max))
 
 
 def plot(results, path, labels=None):

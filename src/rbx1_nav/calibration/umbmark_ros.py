@@ -103,8 +103,8 @@ def report_results(values, odometry, measured):
     lines = umbmark.report(result)
     for line in lines[:-1]:
         rospy.loginfo('%s: %s', NAME, line)
-    (rospy.loginfo if result.supported else rospy.logwarn)('%s: %s', NAME,
-                                                           lines[-1])
+    (rospy.loginfo if result.supported or umbmark.calibrated(result)
+     else rospy.logwarn)('%s: %s', NAME, lines[-1])
     results_path = os.path.abspath(values['results'])
     umbmark.save(results_path, result, runs, odometry, measured)
     results, labels = [result], ['this run']
