@@ -19,10 +19,11 @@ relative to the run's start is needed:
 It prints the return errors, each direction's scatter (standard deviation,
 standard error of the centre of gravity), E_max,syst, Ed, Eb and, when the
 data support a correction (a centre of gravity more than 2 standard errors
-from zero, rbx1_nav.calibration.umbmark), the factors for the driver
-(diff_drive_controller's three multipliers, a TurtleBot driver's
-odom_angular_scale_correction); otherwise it says that E_max,syst is within
-the noise and about how many runs would be needed. It writes them to
+and 2 mm from zero, rbx1_nav.calibration.umbmark), the factors for the
+driver (diff_drive_controller's three multipliers, a TurtleBot driver's
+odom_angular_scale_correction); otherwise it says that the robot is
+calibrated as far as the runs tell, and about how many runs would show an
+error of that size (one run each way tells neither). It writes them to
 ~results (YAML; corrections null when not supported) and plots them to
 ~plot (PNG; empty: no plot), together with an earlier ~compare results file.
 

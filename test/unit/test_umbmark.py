@@ -7,7 +7,7 @@ import pytest
 
 from ideal_robot import run
 from rbx1_nav.motion.precise import Approach
-from rbx1_nav.calibration.umbmark import (FALSE_ALARM, analyse, calibrated, check_errors, corrections,
+from rbx1_nav.calibration.umbmark import (FALSE_ALARM, RESOLUTION, analyse, calibrated, check_errors, corrections,
                                           compare_text, critical, evaluate,
                                           first_order, load,
                                           parse_position, plot, relative, report,
@@ -264,13 +264,38 @@ def test_after_a_correction_that_worked_the_robot_is_calibrated():
         assert word not in text
 
 
-def test_identical_runs_back_at_the_start_say_the_robot_is_calibrated():
-    # A simulator without noise and without errors: every run returns.
-    result = analyse([[0.0, 0.0]] * 2, [[0.0, 0.0]] * 2, 1.0, B)
-    assert calibrated(result)
-    assert report(result)[-1] == ('the robot is calibrated: its runs are identical '
-                                  '(no noise) and E_max,syst is 0.0 mm, so there is '
-                                  'no correction to apply')
+@pytest.mark.parametrize('cw, ccw, e_max', [
+    ([0.0, 0.0], [0.0, 0.0], 0.0),  # without noise and without errors
+    # umbmark.launch sim:=true with the multipliers it printed (the fake
+    # robot without noise): once "the correction is supported" and x1.00006.
+    ([0.001, 0.001], [-0.0007, 0.0007], 1.4)])
+def test_identical_runs_within_the_resolution_say_the_robot_is_calibrated(cw, ccw, e_max):
+    result = analyse([cw] * 3, [ccw] * 3, 1.0, B)
+    assert not result.supported and calibrated(result)
+    lines = report(result)
+    assert lines[-1] == ('the robot is calibrated: its runs are identical (no noise) '
+                         'and E_max,syst %.1f mm is within 2 mm of a perfect return '
+                         '(what a tape measure tells apart), so there is no '
+                         'correction to apply' % e_max)
+    assert not any('multiply' in line for line in lines)
+
+
+def test_identical_runs_beyond_the_resolution_support_a_correction():
+    result = analyse([[0.0015, 0.0015]] * 3, [[-0.0007, 0.0007]] * 3, 1.0, B)
+    assert result.supported and result.e_max > RESOLUTION
+    assert 'the correction is supported' in '\n'.join(report(result))
+
+
+def test_noisy_runs_within_the_resolution_support_no_correction():
+    # Many runs of little scatter: 30 standard errors from zero, 1.5 mm.
+    result = analyse(cluster((0.0015, 0.0), 0.0001), cluster((0.0, 0.001), 0.0001),
+                     1.0, B)
+    assert result.scatter_cw.distance > critical(4)
+    assert not result.supported and calibrated(result)
+    assert report(result)[-1] == ('the robot is calibrated: E_max,syst 1.5 mm is '
+                                  'within 2 mm of a perfect return (what a tape '
+                                  'measure tells apart), so there is no correction '
+                                  'to apply')
 
 
 def test_a_correction_beyond_the_noise_is_given():

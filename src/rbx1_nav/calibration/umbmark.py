@@ -69,7 +69,14 @@ x and y (|cg|^2 / se^2 follows the F distribution with 2 and d degrees of
 freedom), at FALSE_ALARM / 2 per cluster. k is about 2 standard errors:
 2.5 for 5 runs, 2.0 for 20, 1.9 for very many; 6.2 for 2 runs, whose
 scatter is itself a rough guess. One run each way shows no scatter and
-supports nothing. When a correction is not supported by runs that show
+supports nothing. Nor does a centre of gravity within ``RESOLUTION`` (2 mm)
+of zero, whatever the scatter: a return position is read off a tape to
+about a millimetre in x and in y, at the start mark and again where the
+robot stopped, so a return closer than that is a perfect one as far as
+the tape tells. Runs that scatter by nothing (a simulator without noise)
+need that floor most: any residual would be "beyond the noise", and a
+correction that worked would be followed by one of x1.00006.
+When a correction is not supported by runs that show
 their scatter, the robot is calibrated as far as they can tell: there is
 no correction to apply (:func:`calibrated`), and the runs each way that
 would make a systematic error of the size measured stand out are the
@@ -89,7 +96,8 @@ from rbx1_nav.motion.course import Course
 from rbx1_nav.motion.steps import Drive, Pause, Turn
 
 __all__ = ['relative', 'square_course', 'check_errors', 'analyse',
-           'analyse_runs', 'Result', 'Scatter', 'FALSE_ALARM', 'critical', 'calibrated',
+           'analyse_runs', 'Result', 'Scatter', 'FALSE_ALARM', 'RESOLUTION', 'critical',
+           'calibrated',
            'runs_needed', 'square_return', 'first_order',
            'corrections', 'report', 'plot', 'run_label', 'parse_position',
            'evaluate', 'results_record', 'save', 'load', 'compare_text',
@@ -97,6 +105,9 @@ __all__ = ['relative', 'square_course', 'check_errors', 'analyse',
 
 CW, CCW = 'cw', 'ccw'
 FALSE_ALARM = 0.05  # chance of a correction "supported" by noise alone
+#: A centre of gravity this close to zero (m) is a perfect return as far as
+#: a tape measure tells (the module's docstring): it supports no correction.
+RESOLUTION = 0.002
 #: Return positions scattered by less than this (m) are the same run
 #: repeated: a simulator without noise, rounding apart.
 IDENTICAL = 1e-6
@@ -158,11 +169,11 @@ Result.__doc__ = """What UMBmark found: the return errors of each direction
 (rad), Ed and Eb, each cluster's :class:`Scatter`, and whether the data
 support a correction (see the module's docstring)."""
 
-Scatter = namedtuple('Scatter', 'runs sd se distance')
+Scatter = namedtuple('Scatter', 'runs sd se distance offset')
 Scatter.__doc__ = """A cluster's scatter: its number of runs, the standard
 deviation of its return positions about their centre of gravity and the
-standard error of that centre (m; NaN for one run), and the centre's
-distance from zero in standard errors (NaN for one run)."""
+standard error of that centre (m; NaN for one run), the centre's
+distance from zero in standard errors (NaN for one run), and in metres."""
 
 
 def critical(runs):
@@ -175,22 +186,23 @@ def critical(runs):
 def scatter(errors, cg):
     """The :class:`Scatter` of the return ``errors`` about ``cg``."""
     n = len(errors)
+    distance = float(math.hypot(*cg))
     if n < 2:
-        return Scatter(n, math.nan, math.nan, math.nan)
+        return Scatter(n, math.nan, math.nan, math.nan, distance)
     sd = math.sqrt(float(np.sum((errors - cg) ** 2)) / (n - 1))
-    distance = math.hypot(*cg)
     if sd < IDENTICAL:  # identical runs (a simulator without noise)
-        return Scatter(n, 0.0, 0.0, math.inf if distance > 0.0 else 0.0)
+        return Scatter(n, 0.0, 0.0, math.inf if distance > 0.0 else 0.0, distance)
     se = sd / math.sqrt(n)
-    return Scatter(n, sd, se, distance / se)
+    return Scatter(n, sd, se, distance / se, distance)
 
 
 def supports(scatters):
     """Whether clusters of these :class:`Scatter` support a correction: a
     centre of gravity of more than one run farther from zero than
-    :func:`critical` standard errors, in either direction."""
+    :func:`critical` standard errors, and than RESOLUTION, in either
+    direction."""
     return any(spread.runs > 1 and spread.distance > critical(spread.runs)
-               for spread in scatters)
+               and spread.offset > RESOLUTION for spread in scatters)
 
 
 def calibrated(result):
@@ -372,10 +384,13 @@ def calibrated_text(result):
     no correction to apply, and how many runs would show an error of the
     size measured."""
     runs = min(result.scatter_cw.runs, result.scatter_ccw.runs)
-    if result.scatter_cw.sd == result.scatter_ccw.sd == 0.0:
-        return ('the robot is calibrated: its runs are identical (no noise) '
-                'and E_max,syst is %.1f mm, so there is no correction to apply'
-                % (1000 * result.e_max))
+    if result.e_max <= RESOLUTION:
+        return ('the robot is calibrated: %sE_max,syst %.1f mm is within %g mm '
+                'of a perfect return (what a tape measure tells apart), so there '
+                'is no correction to apply' % (
+                    'its runs are identical (no noise) and '
+                    if result.scatter_cw.sd == result.scatter_ccw.sd == 0.0 else '',
+                    1000 * result.e_max, 1000 * RESOLUTION))
     needed = runs_needed(result)
     if math.isinf(needed):
         more = ('no systematic error shows against this scatter (over 1000 '
