@@ -243,7 +243,8 @@ class CourseGuardsTest(unittest.TestCase):
         self.assertNotIn('Course complete', second[0].output)
         self.assertEqual([m for who, m in commands.heard if who == second[0].node_name], [])
         # It did not start: its command line's _rate:=20.0 is not left on the master.
-        self.assertFalse(rospy.has_param(second[0].node_name), rospy.get_param_names())
+        names = rospy.get_param_names()
+        self.assertEqual([n for n in names if n.startswith(second[0].node_name + '/')], [], names)
         # The first drove on and ended where it ends alone (the pure model; lockstep: 0.1 mm).
         self.assertEqual(status, 0, first.output)
         self.assertIn('Course complete', first.output)
