@@ -56,3 +56,12 @@ def test_put_back_deletes_what_was_new_and_restores_what_was_replaced():
     assert put_back(before, {'legs': 2, 'goal_distnce': 0.7, 'a/b': True, 'a/c': 1}) == (
         ['a/c', 'goal_distnce'], {'legs': 1, 'a/b': False})
     assert put_back({}, {}) == ([], {})
+
+
+def test_the_command_line_goes_over_the_masters_namespace():
+    from rbx1_nav.common.params_given import layered
+    get = layered({'rate': 15, 'a/b': 2}, {'rate': 20, 'legs': 3, 'a': {'b': 1}})
+    assert get('rate', None) == 15  # the command line's
+    assert get('legs', None) == 3   # the master's
+    assert get('a/b', None) == 2
+    assert get('goal_distance', 1.0) == 1.0  # neither: the default

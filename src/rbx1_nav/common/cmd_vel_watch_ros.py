@@ -31,7 +31,7 @@ def kinds(graph, topic, nodes):
     _, subscribers, types = graph
     takers = subscribers.get(topic, ())
     headers = heard_headers(topic)
-    courses = {node for node, header in (headers or {}).items() if is_course(header)}
+    courses = _courses(headers)
     found = {}
     for node in nodes:
         if node in takers and headers is not None and node not in headers:
@@ -51,20 +51,26 @@ def kind_now(topic, node):
     return kinds(graph, topic, [node])[node] or (UNKNOWN, MUX_INPUT)
 
 
+def _courses(headers):
+    """The nodes among ``headers`` (heard_headers()) whose header says they are courses."""
+    return {node for node, header in (headers or {}).items() if is_course(header)}
+
+
 def courses_heard(topic):
     """The nodes whose course header this process's subscription to ``topic`` has read."""
-    return {node for node, header in (heard_headers(topic) or {}).items() if is_course(header)}
+    return _courses(heard_headers(topic))
 
 
 def watch_publishers(name, topics, own=None, now=True):
     """Warn of new publishers on ``topics`` (resolved), as NewPublishers(``own``), every PERIOD s
     from a thread, and first at once unless ``now`` is false; returns a look to call any time
-    (a course calls it once it hears the others, before it drives)."""
+    (a course calls it once it hears the others, before it drives, with the master's graph it
+    already has)."""
     checks = {topic: NewPublishers(own) for topic in topics}
     lock = threading.Lock()
 
-    def look():
-        graph = topic_graph()
+    def look(graph=None):
+        graph = graph or topic_graph()
         with lock:
             for topic in sorted(topics) if graph else ():
                 publishers = graph[0].get(topic, [])

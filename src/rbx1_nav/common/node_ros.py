@@ -187,8 +187,8 @@ def start_node(name, specs, doc, clock=True):
         given, before = private_params()
         if not warn_unknown(name, specs, set(before) | {key.split('/')[0] for key in given}):
             return None
-        values = params.check_all(specs, lambda key, default: given[key] if key in given else
-                                  params_given.lookup(before, key, default), rospy.get_name(), given)
+        values = params.check_all(specs, params_given.layered(given, before), rospy.get_name(),
+                                  given)
     except (ValueError, rospy.ROSInitException) as err:
         rospy.logerr('%s: bad parameters, not moving: %s', name, err)
         return None

@@ -3,7 +3,7 @@ starts: rospy's init_node sets them before the node has looked at them, so a ref
 typo, a bad value) left them for every later run (rbx1_nav.common.node_ros). No rospy here."""
 import re
 
-__all__ = ['private_name', 'lookup', 'put_back']
+__all__ = ['private_name', 'lookup', 'layered', 'put_back']
 
 #: rosgraph.names.REMAP_PATTERN, matched whole (test_params_given checks the two agree).
 _REMAP = re.compile(r'([\~\/A-Za-z]|_|__)[\w\/]*:=.*')
@@ -23,6 +23,12 @@ def lookup(tree, name, default=None):
             return default
         tree = tree[part]
     return tree
+
+
+def layered(given, before):
+    """``lookup(name, default)`` for a node's parameters: the command line's ``given`` ({name:
+    value}, not on the master yet) over the master's namespace ``before``."""
+    return lambda name, default: given[name] if name in given else lookup(before, name, default)
 
 
 def put_back(before, names):

@@ -84,7 +84,7 @@ class CmdVel(object):
             deadline.poll(50)
         self.others.listen()
         if self.look is not None:
-            self.look()
+            self.look(graph)
         return others
 
     def refusal(self):

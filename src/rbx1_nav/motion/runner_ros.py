@@ -117,7 +117,7 @@ class MotionRunner(object):
         twist = Twist()
         twist.linear.x, twist.angular.z = command.linear, command.angular
         with self.lock:
-            if not self.halted and not self.yielded:
+            if not self.halted:
                 self.cmd_vel.send(twist)
 
     def start(self):

@@ -151,9 +151,7 @@ def main(specs, doc):
         return 0  # quit while starting: as after a quit
     try:
         given, before = private_params()
-        settings = check_settings(lambda name, default: given[name] if name in given else
-                                  params_given.lookup(before, name, default),
-                                  rospy.get_name(), given)
+        settings = check_settings(params_given.layered(given, before), rospy.get_name(), given)
     except (ValueError, rospy.ROSInitException) as err:
         rospy.logerr('teleop_keyboard: bad parameters, not starting: %s', err)
         return 1
