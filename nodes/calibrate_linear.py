@@ -25,9 +25,10 @@ from rbx1_nav.calibration.scale import LINEAR  # noqa: E402
 from rbx1_nav.cfg import CalibrateLinearConfig  # noqa: E402
 from rbx1_nav.calibration.scale_ros import main, node_params  # noqa: E402
 from rbx1_nav.common.node_ros import exit_node  # noqa: E402
+from rbx1_nav.course_clock_ros import course_clock  # noqa: E402
 
 NAME = 'calibrate_linear'
 PARAMS = node_params(CalibrateLinearConfig)
 
 if __name__ == '__main__':
-    exit_node(NAME, main(LINEAR, CalibrateLinearConfig, PARAMS, __doc__))
+    exit_node(NAME, main(LINEAR, CalibrateLinearConfig, PARAMS, course_clock, __doc__))

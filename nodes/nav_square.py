@@ -23,6 +23,7 @@ import signal
 signal.signal(signal.SIGINT, signal.SIG_DFL)  # a signal during the imports: gone, quietly
 
 from rbx1_nav.common.node_ros import exit_node  # noqa: E402
+from rbx1_nav.course_clock_ros import course_clock  # noqa: E402
 from rbx1_nav.motion.book import NAV_SQUARE  # noqa: E402
 from rbx1_nav.motion.runner_ros import common_params, run_course_node  # noqa: E402
 
@@ -31,5 +32,5 @@ PARAMS = NAV_SQUARE.params + common_params(rate=NAV_SQUARE.rate)
 
 
 if __name__ == '__main__':
-    exit_node(NAME, run_course_node(NAME, PARAMS, NAV_SQUARE.build,
+    exit_node(NAME, run_course_node(NAME, PARAMS, NAV_SQUARE.build, course_clock,
                                     doc=__doc__))

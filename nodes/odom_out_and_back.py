@@ -21,6 +21,7 @@ import signal
 signal.signal(signal.SIGINT, signal.SIG_DFL)  # a signal during the imports: gone, quietly
 
 from rbx1_nav.common.node_ros import exit_node  # noqa: E402
+from rbx1_nav.course_clock_ros import course_clock  # noqa: E402
 from rbx1_nav.motion.book import OUT_AND_BACK  # noqa: E402
 from rbx1_nav.motion.runner_ros import common_params, run_course_node  # noqa: E402
 
@@ -29,5 +30,5 @@ PARAMS = OUT_AND_BACK.params + common_params(rate=OUT_AND_BACK.rate)
 
 
 if __name__ == '__main__':
-    exit_node(NAME, run_course_node(NAME, PARAMS, OUT_AND_BACK.build,
+    exit_node(NAME, run_course_node(NAME, PARAMS, OUT_AND_BACK.build, course_clock,
                                     doc=__doc__))

@@ -42,6 +42,7 @@ from rbx1_nav.calibration.truth_ros import TRUTH_PARAM  # noqa: E402
 from rbx1_nav.calibration.umbmark_ros import NAME, main  # noqa: E402
 from rbx1_nav.common import params, params_lists  # noqa: E402
 from rbx1_nav.common.node_ros import exit_node  # noqa: E402
+from rbx1_nav.course_clock_ros import course_clock  # noqa: E402
 from rbx1_nav.common.params import param  # noqa: E402
 from rbx1_nav.motion.command import MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED  # noqa: E402
 from rbx1_nav.motion.precise import PRECISE_PARAMS  # noqa: E402
@@ -77,4 +78,4 @@ PARAMS = (
 
 
 if __name__ == '__main__':
-    exit_node(NAME, main(PARAMS, __doc__))
+    exit_node(NAME, main(PARAMS, course_clock, __doc__))

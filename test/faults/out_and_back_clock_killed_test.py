@@ -21,6 +21,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from course_harness import (CourseProcess, RobotWatch, kill_node,  # noqa: E402
                             is_zero, launched_node_status, wait_under_way)
 from rbx1_nav.sim_time import member_ros as lockstep  # noqa: E402
+from rbx1_nav.sim_time import switch_ros  # noqa: E402
 from rbx1_nav.common.node_ros import SHUTDOWN_LIMIT  # noqa: E402
 
 EXIT = 1.0  # wall s for the interpreter to exit once rospy is shut down
@@ -39,7 +40,7 @@ def exit_limit(tf_timeout):
     exits without it, rbx1_nav.common.node_ros.exit_node), and the
     interpreter's exit up to EXIT.
     """
-    if lockstep.enabled():
+    if switch_ros.lockstep():
         notice = lockstep.POLL + max(lockstep.GRANT_LIMIT, tf_timeout)
     else:
         notice = max(2.0, tf_timeout)

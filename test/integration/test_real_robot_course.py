@@ -4,7 +4,7 @@ A real-robot start, as the README's "On your real robot" types it: a
 master, the robot's driver (a plain fake_turtlebot.py stands in: no
 /use_sim_time), then `rosrun rbx1_nav odom_out_and_back.py`
 run to the end of its course. At its exit the course has loaded no
-lockstep module (only rbx1_nav.sim_time.stepping_ros, which found
+lockstep module (only rbx1_nav.sim_time.switch_ros, which found
 /lockstep off) and, in all, at most LINES lines of the package's modules.
 
 The course is short (0.1 m, 0.5 rad): what it loads does not depend on
@@ -88,7 +88,7 @@ def test_a_course_on_a_real_robot_loads_no_lockstep_module(tmp_path):
     sim_time = [n for n in names if n.startswith('sim_time' + os.sep)
                 or 'Lockstep' in n or 'member' in n]
     assert sim_time == [os.path.join('sim_time', '__init__.py'),
-                        os.path.join('sim_time', 'stepping_ros.py')], sim_time
+                        os.path.join('sim_time', 'switch_ros.py')], sim_time
     lines = sum(n for _, n in modules)
     print('%d rbx1_nav modules, %d lines' % (len(modules), lines))
     assert lines <= LINES, 'the course loaded %d lines of rbx1_nav (limit %d): %s' % (

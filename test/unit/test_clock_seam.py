@@ -1,12 +1,17 @@
-"""The seam that keeps simulated time out of motion/: a course's clock is
-rbx1_nav.motion.ticks_ros.Ticks on a real robot, or, under lockstep,
-rbx1_nav.sim_time.course_member_ros.MemberTicks, which does not subclass it
-(sim_time imports nothing of motion). The runner cannot tell them apart:
-each answers every question the other does, with the same arguments."""
+"""The seam that keeps simulated time out of motion/: a course's clock and
+link to the robot are rbx1_nav.motion.clock_ros.RateClock and
+rbx1_nav.motion.robot_link_ros.RobotLink on a real robot or, under lockstep,
+rbx1_nav.sim_time.course_member_ros.MemberClock and MemberLink, which do not
+subclass them (sim_time imports nothing of motion). The runner cannot tell
+them apart: each answers every question its twin does, with the same
+arguments."""
 import inspect
 
-from rbx1_nav.motion.ticks_ros import Ticks
-from rbx1_nav.sim_time.course_member_ros import MemberTicks
+import pytest
+
+from rbx1_nav.motion.clock_ros import RateClock
+from rbx1_nav.motion.robot_link_ros import RobotLink
+from rbx1_nav.sim_time.course_member_ros import MemberClock, MemberLink
 
 
 def _questions(cls):
@@ -20,12 +25,20 @@ def _questions(cls):
     return found
 
 
-def test_both_clocks_answer_the_same_questions_with_the_same_arguments():
-    plain, member = _questions(Ticks), _questions(MemberTicks)
+@pytest.mark.parametrize('plain, member', [(RateClock, MemberClock), (RobotLink, MemberLink)])
+def test_both_variants_answer_the_same_questions_with_the_same_arguments(plain, member):
+    plain, member = _questions(plain), _questions(member)
     assert set(plain) == set(member), sorted(set(plain) ^ set(member))
     for name in plain:
         assert plain[name] == member[name], name
 
 
-def test_only_the_lockstep_clock_counts_the_commands():
-    assert Ticks.counts_commands is False and MemberTicks.counts_commands is True
+def test_a_clock_says_when_ticks_come_and_a_link_what_goes_to_and_from_the_robot():
+    assert set(_questions(RateClock)) == {'start', 'ticks', 'pause', 'leave'}
+    assert set(_questions(RobotLink)) == {
+        'counts_commands', 'publisher', 'sent', 'takers', 'not_taken', 'arrived', 'take',
+        'looks', 'reading'}
+
+
+def test_only_the_lockstep_link_counts_the_commands():
+    assert RobotLink.counts_commands is False and MemberLink.counts_commands is True

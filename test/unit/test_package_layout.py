@@ -18,10 +18,10 @@ SUBSYSTEMS = ('common', 'motion', 'sim', 'sim_time', 'calibration', 'estimation'
 #: import them.
 ROS_CLIENTS = ('rospy', 'tf2_ros', 'rosbag', 'rosgraph', 'rospkg',
                'dynamic_reconfigure')
-#: (importing module, imported module): the one door from motion to
-#: simulated time, the course's clock chosen at start-up; what lies behind
-#: it loads only under lockstep (test_real_robot_course.py).
-CLOCK_DOOR = ('motion/ticks_ros.py', 'rbx1_nav.sim_time.stepping_ros')
+#: The one module above the subsystems: it chooses a course's clock
+#: (lockstep's or the plain one) and hands it to motion's runner, so it
+#: may import motion and sim_time; nothing imports it but the nodes.
+COMPOSITION = 'course_clock_ros.py'
 #: subsystem -> the subsystems it must not import.
 IMPORT_RULES = {
     'common': set(SUBSYSTEMS) - {'common'},
@@ -76,10 +76,11 @@ def test_installed_programs_exist():
 
 
 def test_one_folder_per_subsystem_and_no_flat_modules():
-    """Only the package's __init__ and the book's transform_utils sit at the
-    top; every folder is a subsystem that setup.py installs."""
+    """Only the package's __init__, the book's transform_utils and the
+    composition module sit at the top; every folder is a subsystem that
+    setup.py installs."""
     top = {os.path.basename(p) for p in glob.glob(os.path.join(PACKAGE, '*.py'))}
-    assert top == {'__init__.py', 'transform_utils.py'}
+    assert top == {'__init__.py', 'transform_utils.py', COMPOSITION}
     folders = {d for d in os.listdir(PACKAGE)
                if os.path.isdir(os.path.join(PACKAGE, d)) and d != '__pycache__'}
     assert folders == set(SUBSYSTEMS)
@@ -102,15 +103,69 @@ def test_only_ros_modules_import_a_ros_client():
 def test_imports_run_one_way():
     for sub, path in _modules():
         banned = IMPORT_RULES.get(sub, set(SUBSYSTEMS))  # top level: none
-        if sub is None and path.endswith('__init__.py'):
-            continue
+        if sub is None and os.path.basename(path) in ('__init__.py', COMPOSITION):
+            banned = {'sim', 'calibration', 'estimation'}
         for name in _imports(path):
             parts = name.split('.')
-            door = (os.path.relpath(path, PACKAGE) == CLOCK_DOOR[0]
-                    and name.startswith(CLOCK_DOOR[1]))
-            if parts[0] == 'rbx1_nav' and len(parts) > 1 and not door:
+            if parts[0] == 'rbx1_nav' and len(parts) > 1:
                 assert parts[1] not in banned, '%s (%s) imports %s' % (
                     os.path.relpath(path, ROOT), sub or 'top level', name)
+        if sub is not None:
+            assert 'rbx1_nav.' + COMPOSITION[:-3] not in _imports(path), path
+
+
+def _module_name(path):
+    rel = os.path.relpath(path, os.path.dirname(PACKAGE))[:-3].split(os.sep)
+    return '.'.join(rel[:-1] if rel[-1] == '__init__' else rel)
+
+
+def _import_graph():
+    """{module: the package's modules it imports}, drawn from every import
+    (at the top of a module or inside a function)."""
+    paths = {_module_name(path): path for _, path in _modules()}
+    return {name: {imported for imported in _imports(path)
+                   if imported in paths and imported != name}
+            for name, path in paths.items()}
+
+
+def test_no_import_circle():
+    graph = _import_graph()
+    done, path = set(), []
+
+    def visit(name):
+        if name in path:
+            raise AssertionError('import circle: ' + ' -> '.join(
+                path[path.index(name):] + [name]))
+        if name in done:
+            return
+        path.append(name)
+        for imported in sorted(graph[name]):
+            if not imported.endswith('__init__') and imported != name.rsplit('.', 1)[0]:
+                visit(imported)
+        path.pop()
+        done.add(name)
+
+    for name in sorted(graph):
+        visit(name)
+
+
+#: The largest a class or a function may grow (lines, docstring included).
+MAX_CLASS, MAX_FUNCTION = 250, 60
+
+
+def test_no_class_or_function_too_long_to_read():
+    found = []
+    for path in [p for _, p in _modules()] + NODES:
+        with open(path) as f:
+            tree = ast.parse(f.read(), path)
+        for node in ast.walk(tree):
+            limit = (MAX_CLASS if isinstance(node, ast.ClassDef) else MAX_FUNCTION
+                     if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) else None)
+            lines = node.end_lineno - node.lineno + 1 if limit else 0
+            if limit and lines > limit:
+                found.append('%s: %s, %d lines (limit %d)' % (
+                    os.path.relpath(path, ROOT), node.name, lines, limit))
+    assert not found, found
 
 
 def _main_call(statement):

@@ -64,11 +64,11 @@ def config_params(config_type):
 class CalibrationNode(object):
     """One calibration kind's tests, between reconfigure and the runner."""
 
-    def __init__(self, kind, config_type, settings):
+    def __init__(self, kind, config_type, settings, choose_clock):
         self.kind = kind
         self.name = 'calibrate_' + kind.name
         self.settings = settings
-        self.runner = MotionRunner(self.name, settings)
+        self.runner = MotionRunner(self.name, settings, choose_clock)
         self.lock = threading.Lock()
         self.config = None
         self.odometry = None  # the last test's odometry value, kind's unit
@@ -179,13 +179,13 @@ def node_params(config_type):
     return config_params(config_type) + NODE_PARAMS + common_params(rate=20.0)
 
 
-def main(kind, config_type, specs, doc):
+def main(kind, config_type, specs, choose_clock, doc):
     """main() of calibrate_<kind>.py (``specs``: its parameters,
-    :func:`node_params`; ``doc``: its docstring, for --help); returns the
-    exit status."""
+    :func:`node_params`; ``choose_clock``: the runner's, MotionRunner;
+    ``doc``: its docstring, for --help); returns the exit status."""
     name = 'calibrate_' + kind.name
     values = start_node(name, specs, doc)
     if values is None:
         return 1
-    node = CalibrationNode(kind, config_type, values)
+    node = CalibrationNode(kind, config_type, values, choose_clock)
     return guarded(name, node.runner, node.spin)

@@ -50,9 +50,9 @@ def ask_position(label, side):
 class Benchmark(object):
     """Drive the runs and collect odometry's and the true return positions."""
 
-    def __init__(self, values):
+    def __init__(self, values, choose_clock):
         self.values = values
-        self.runner = MotionRunner(NAME, values)
+        self.runner = MotionRunner(NAME, values, choose_clock)
         topic = values['ground_truth_topic']
         self.truth = GroundTruth(topic) if topic else None
         self.interactive = not self.truth and sys.stdin.isatty()
@@ -121,9 +121,10 @@ def report_results(values, odometry, measured):
     return result
 
 
-def main(specs, doc):
-    """main() of umbmark.py (``specs``: its parameters, ``doc``: its
-    docstring, for --help); returns the exit status."""
+def main(specs, choose_clock, doc):
+    """main() of umbmark.py (``specs``: its parameters; ``choose_clock``: the
+    runner's, MotionRunner; ``doc``: its docstring, for --help); returns the
+    exit status."""
     values = start_node(NAME, specs, doc)
     if values is None:
         return 1
@@ -138,7 +139,7 @@ def main(specs, doc):
         except (ValueError, OSError, KeyError) as err:
             rospy.logerr('%s: %s; no correction computed', NAME, err)
             return 1
-    bench = Benchmark(values)
+    bench = Benchmark(values, choose_clock)
     status = guarded(NAME, bench.runner, bench.run)
     if status != 0:
         return status

@@ -26,6 +26,7 @@ from std_srvs.srv import Trigger, TriggerResponse
 from tf2_msgs.msg import TFMessage
 
 from rbx1_nav.sim_time import member_ros as lockstep
+from rbx1_nav.sim_time import switch_ros
 from rbx1_nav.sim_time.member import BACK, NO_TICK
 from rbx1_nav.common.master_ros import MasterWatch
 from rbx1_nav.common.reregister_ros import reregister_node
@@ -82,7 +83,7 @@ class PoseEkfNode(object):
             math.radians(values['gps_frame_rotation_sd'])
             if values['gps_frame_rotation'] else None, self.freq)
         self.lock = threading.Lock()
-        if lockstep.enabled():
+        if switch_ros.lockstep():
             self.member = lockstep.Member(
                 inputs=[topics[name] for name in TOPICS if used[name]], hold=True,
                 passive=True)

@@ -1,4 +1,4 @@
-"""The runner's cmd_vel side: the publisher (the course clock's, told of each send), the wait for
+"""The runner's cmd_vel side: the publisher (the course's link's, told of each send), the wait for
 the driver to subscribe, and other nodes driving the robot (heard on the topic itself): one that
 drives during the course, or one already driving when it starts."""
 import io
@@ -18,11 +18,11 @@ from rbx1_nav.motion.cmd_vel import listener_hint
 
 
 class CmdVel(object):
-    """The ``cmd_vel`` publisher of a course run by ``clock`` (a Ticks)."""
+    """The ``cmd_vel`` publisher of a course on ``link`` (a RobotLink)."""
 
-    def __init__(self, clock):
-        self.clock = clock
-        self.pub = clock.publisher('cmd_vel', Twist, headers=dict([COURSE_HEADER]))
+    def __init__(self, link):
+        self.link = link
+        self.pub = link.publisher('cmd_vel', Twist, headers=dict([COURSE_HEADER]))
         self.own = rospy.get_name()
         self.others = OtherDriver(self.own)
         self.look = None  # a look at the other publishers (watch_publishers)
@@ -43,8 +43,8 @@ class CmdVel(object):
 
     def unacknowledged(self):
         """The most command bytes a subscriber's host has not acknowledged (TCP delivers in order:
-        older ones arrived), None if unknown; 0 when the clock counts them (the robot waits)."""
-        if self.clock.counts_commands:
+        older ones arrived), None if unknown; 0 when the link counts them (the robot waits)."""
+        if self.link.counts_commands:
             return 0
         most = 0
         for conn in self._connections():
@@ -55,9 +55,9 @@ class CmdVel(object):
         return most
 
     def send(self, twist):
-        """Publish on cmd_vel, and tell the clock."""
+        """Publish on cmd_vel, and tell the link."""
         self.pub.publish(twist)
-        self.clock.sent(self.pub.resolved_name)
+        self.link.sent(self.pub.resolved_name)
 
     def watch_publishers(self, name):
         """Warn when another node publishes on this cmd_vel too (every few seconds; the first
@@ -108,12 +108,12 @@ class CmdVel(object):
         deadline = Deadline(wait)
         while True:
             connected = {subscriber_name(c) for c in self._connections()}
-            if self.clock.takers(connected):
+            if self.link.takers(connected):
                 return
             if rospy.is_shutdown():
                 raise rospy.ROSInterruptException('shutdown while waiting')
             if deadline.expired():
-                refused = connected and self.clock.not_taken(
+                refused = connected and self.link.not_taken(
                     self.pub.resolved_name, connected, wait)
                 if refused:
                     raise CourseAborted(refused)

@@ -20,7 +20,6 @@ from rbx1_nav.motion.settle import GAVE_UP, SETTLE_PARAMS, Settle, moved_text
 from rbx1_nav.motion.summary import stalls_text, summary_line
 from rbx1_nav.motion.tf_follow_ros import TF_TOPIC, TfFollower
 from rbx1_nav.motion.tf_guard import TransformGuard, top_speeds
-from rbx1_nav.motion.ticks_ros import course_ticks
 from rbx1_nav.motion.watchdogs_ros import StallWarnings, TfAgeWarnings, watch_master
 from rbx1_nav.transform_utils import Pose2D
 
@@ -57,24 +56,25 @@ def common_params(rate):
 
 class MotionRunner(object):
     """The control loop and the stop on every exit; ``settings``: the values of
-    :func:`common_params`. With ``require_tf`` false (open-loop courses) a robot without the
+    :func:`common_params`; ``choose_clock``: the course's (clock, link) of them
+    (rbx1_nav.course_clock_ros.course_clock). With ``require_tf`` false (open-loop courses) a robot without the
     transform runs the course blind: no staleness check and no final pose."""
 
-    def __init__(self, name, settings, require_tf=True):
+    def __init__(self, name, settings, choose_clock, require_tf=True):
         self.name = name
         self.settings = settings
         self.require_tf = require_tf
-        self.ticks = course_ticks(settings['rate'], settings['tf_wait'], settings['tf_timeout'],
-                                  self.stop, rospy.resolve_name(TF_TOPIC),
-                                  rospy.resolve_name(StallWarnings.TOPIC))
-        self.cmd_vel = CmdVel(self.ticks)
+        self.clock, self.link = choose_clock(
+            settings['rate'], settings['tf_wait'], settings['tf_timeout'], self.stop,
+            rospy.resolve_name(TF_TOPIC), rospy.resolve_name(StallWarnings.TOPIC))
+        self.cmd_vel = CmdVel(self.link)
         self.lock = threading.Lock()
         self.halted = False
         self.yielded = False  # another node drives the robot: send nothing, not even a stop
         # Before rospy closes its topics (Ctrl-C, rosnode kill, launch end): the stop goes out.
         rospy.on_shutdown(self.halt)
-        self.tf = TfFollower(name, settings['odom_frame'], settings['base_frame'], self.ticks)
-        self.stalls = StallWarnings(name, self.ticks)
+        self.tf = TfFollower(name, settings['odom_frame'], settings['base_frame'], self.link)
+        self.stalls = StallWarnings(name, self.link)
         self.tf_age = TfAgeWarnings(name, settings['max_tf_age'])
         self._started = False
         # The last course's Hold, ticks (s from its first) and last tick (ROS time). Under
@@ -123,7 +123,7 @@ class MotionRunner(object):
     def start(self):
         """Wait for the clock and start the watchdogs (once per node)."""
         if not self._started:
-            self.ticks.start(self.name)
+            self.clock.start(self.name)
             watch_master(self.name)
             self.cmd_vel.watch_publishers(self.name)
             self._started = True
@@ -171,11 +171,11 @@ class MotionRunner(object):
 
     def pause(self, seconds):
         """Wait ``seconds`` of ROS time between courses."""
-        self.ticks.pause(seconds)
+        self.clock.pause(seconds)
 
     def leave(self):
         """Tell the clock the last course has ended."""
-        self.ticks.leave()
+        self.clock.leave()
 
     def _check_robot_is_ours(self):
         """CourseAborted, robot stopped, if another node drives it or its tf is not one robot's."""
@@ -195,7 +195,7 @@ class MotionRunner(object):
         settling = None
         self.tick_times = []
         start = None
-        for now in self.ticks.ticks():
+        for now in self.clock.ticks():
             if start is None:
                 start = now
             # From the integer ns: the same ticks give the same seconds whenever the course began.
@@ -203,7 +203,7 @@ class MotionRunner(object):
             self.tick_times.append(t)
             self.last_tick = now
             self._check_robot_is_ours()
-            robot.tick(now, None if blind else self.ticks.reading(self.tf, now))
+            robot.tick(now, None if blind else self.link.reading(self.tf, now))
             if settling is not None:
                 self.stop()
                 unacknowledged = self.cmd_vel.unacknowledged()
@@ -290,9 +290,10 @@ def guarded(name, runner, work):
     return 1
 
 
-def run_course_node(name, specs, build_course, require_tf=True, doc=None):
+def run_course_node(name, specs, build_course, choose_clock, require_tf=True, doc=None):
     """A course node's main(), returning its exit status. ``specs``: all its parameters
-    (common_params() among them); ``build_course(values)``: the Course; ``doc`` heads --help."""
+    (common_params() among them); ``build_course(values)``: the Course; ``choose_clock``: as
+    MotionRunner's; ``doc`` heads --help."""
     values = start_node(name, specs, doc)
     if values is None:
         return 1
@@ -302,7 +303,7 @@ def run_course_node(name, specs, build_course, require_tf=True, doc=None):
         rospy.logerr('%s: bad parameters, not moving: %s', name, err)
         forget_command_line()
         return 1
-    runner = MotionRunner(name, values, require_tf)
+    runner = MotionRunner(name, values, choose_clock, require_tf)
 
     def work():
         runner.summarize(course, runner.run(course))

@@ -1,4 +1,4 @@
-"""Following the robot on tf (odom -> base); each /tf message also goes to Ticks.arrived.
+"""Following the robot on tf (odom -> base); each /tf message also goes to the link (RobotLink.arrived).
 
 An invalid odom -> base transform (NaN, or a rotation that is not a unit quaternion) never
 reaches the tf buffer, where tf2 would drop it anyway, logging an error for each one: the
@@ -45,14 +45,14 @@ class _Listener(tf2_ros.TransformListener):
 
 
 class TfFollower(object):
-    """The transform ``odom_frame -> base_frame`` steered by; ``clock``: the course's (a Ticks)."""
+    """The transform ``odom_frame -> base_frame`` steered by; ``link``: the course's (a RobotLink)."""
 
-    def __init__(self, name, odom_frame, base_frame, clock):
+    def __init__(self, name, odom_frame, base_frame, link):
         self.name = name
         self.odom_frame = odom_frame
         self.base_frame = base_frame  # '' = automatic
         self.followed = None  # the base frame found on tf
-        self.clock = clock
+        self.link = link
         self.tf_topic = rospy.resolve_name(TF_TOPIC)
         self.guard = None  # while a course runs: its TransformGuard
         self.lock = threading.Lock()
@@ -75,7 +75,7 @@ class TfFollower(object):
 
     def _on_tf(self, msg, invalid):
         """Each update of the followed transform to ``guard`` (an invalid one as such), the
-        invalid ones to ``invalid``, every message to the clock."""
+        invalid ones to ``invalid``, every message to the link."""
         guard = self.guard  # read once: run() clears it from another thread
         if invalid:
             node = sender(msg)
@@ -92,7 +92,7 @@ class TfFollower(object):
                     v = t.transform.translation
                     guard.heard(sender(msg), t.header.stamp.to_sec(), v.x, v.y,
                                 quat_to_angle(t.transform.rotation))
-        self.clock.arrived(self.tf_topic, msg, msg)
+        self.link.arrived(self.tf_topic, msg, msg)
 
     def find_base_frame(self, wait, require_tf):
         """Wait up to ``wait`` wall s for odom -> base; return the base frame found, else None
@@ -103,7 +103,7 @@ class TfFollower(object):
         deadline = Deadline(wait)
         with self.lock:
             self.invalid = {}
-        for frame in self.clock.looks(self, deadline):
+        for frame in self.link.looks(self, deadline):
             if frame is not None:
                 rospy.loginfo('Following tf %s -> %s', self.odom_frame, frame)
                 return frame

@@ -23,16 +23,16 @@ def watch_master(name):
 
 
 class StallWarnings(object):
-    """The velocities the robot measured (``odom``), for Course.stalls. ``clock`` may keep them
-    for the tick that counts them (Ticks.arrived), so a tick reads the same ones on every run.
+    """The velocities the robot measured (``odom``), for Course.stalls. ``link`` may keep them
+    for the tick that counts them (RobotLink.arrived), so a tick reads the same ones on every run.
     An invalid message (NaN, a rotation not a unit quaternion) is named once per node that sends
     it; non-finite velocities are skipped."""
 
     TOPIC = 'odom'
 
-    def __init__(self, name, clock):
+    def __init__(self, name, link):
         self.name = name
-        self.clock = clock
+        self.link = link
         self.invalid = InvalidPoses()
         self.stall_check = StallCheck(name, lambda text: rospy.logwarn_throttle(WARN_PERIOD, text))
         # Drained by the control loop: the course is touched in one thread.
@@ -47,7 +47,7 @@ class StallWarnings(object):
         problem = pose_problem((p.x, p.y, p.z), (q.x, q.y, q.z, q.w), item[1:])
         if problem is not None and self.invalid.heard(sender(msg), problem):
             rospy.logwarn('%s: %s', self.name, invalid_odom_text(self.topic, sender(msg), problem))
-        if not self.clock.arrived(self.topic, msg, item):
+        if not self.link.arrived(self.topic, msg, item):
             self.velocities.append(item)
 
     @property
@@ -60,7 +60,7 @@ class StallWarnings(object):
 
     def check(self, course, start):
         """Feed ``course.stalls`` the velocities heard or kept for this tick; ``start``: tick 0."""
-        self.velocities.extend(self.clock.take(self.topic, key=lambda item: item[0]))
+        self.velocities.extend(self.link.take(self.topic, key=lambda item: item[0]))
         self.stall_check.check(course, start, self._drain())
 
     def _drain(self):

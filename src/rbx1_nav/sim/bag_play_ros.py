@@ -13,6 +13,7 @@ import roslib.message
 import rospy
 
 from rbx1_nav.sim_time import member_ros as lockstep
+from rbx1_nav.sim_time import switch_ros
 from rbx1_nav.sim_time.member import BACK
 from rbx1_nav.common.node_ros import forget_command_line, start_node
 from rbx1_nav.sim.bag_play import Schedule
@@ -66,7 +67,7 @@ def main(name, specs, doc):
     values = start_node(name, specs, doc)
     if values is None:
         return 1
-    if not lockstep.enabled():
+    if not switch_ros.lockstep():
         rospy.logfatal('%s: /use_sim_time and /lockstep are not both true: this '
                        'player needs lockstep simulated time (roslaunch rbx1_nav '
                        'sim_clock.launch sim_speed:=max); for real time use '

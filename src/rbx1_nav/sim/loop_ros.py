@@ -10,6 +10,7 @@ import rospy
 from rbx1_nav.sim.params import MAX_CATCH_UP, WARN_PERIOD
 from rbx1_nav.common.ros_time import time_moved_back_text
 from rbx1_nav.sim_time import member_ros as lockstep
+from rbx1_nav.sim_time import switch_ros
 from rbx1_nav.sim_time.member import BACK
 from rbx1_nav.common.publish_ros import from_ns
 from rbx1_nav.common.cmd_vel_watch_ros import watch_publishers
@@ -23,7 +24,7 @@ def spin_simulator(rate, step, robots, log_name):
     granted to it, its robots' commands counted), otherwise on whatever ROS
     time does. ``robots`` are the RobotTopics it steps."""
     watch_publishers(log_name, [robot.cmd_sub.resolved_name for robot in robots])
-    if lockstep.enabled():
+    if switch_ros.lockstep():
         spin_lockstep(rate, step, robots, log_name)
     else:
         spin_on_ros_time(rate, step, log_name)

@@ -22,7 +22,7 @@ from tf2_msgs.msg import TFMessage
 from rbx1_nav.sim.diff_drive import DiffDriveConfig, DiffDriveFleet, covariance_from_diagonal
 from rbx1_nav.sim.params import GPS_UNKNOWN_VARIANCE, MAX_CATCH_UP, WARN_PERIOD
 from rbx1_nav.sim.physics import PhysicsConfig, PhysicsFleet
-from rbx1_nav.sim_time import member_ros as lockstep
+from rbx1_nav.sim_time import switch_ros
 from rbx1_nav.common.publish_ros import synchronous_publisher
 from rbx1_nav.common.rospy_private_ros import connection_header
 from rbx1_nav.common.tf_publishers import (OtherPublisherWatch, foreign_parent,
@@ -140,7 +140,7 @@ class RobotTopics:
         # lockstep each message is written before the step is reported, so
         # a motion node gets its tick's state without a queue thread's delay.
         queue = int(math.ceil(values['rate'] * MAX_CATCH_UP)) + 10
-        synchronous = lockstep.enabled()  # two parameters read once
+        synchronous = switch_ros.lockstep()  # two parameters read once
 
         def publisher(name, msg_class, queue_size=queue):
             if synchronous:

@@ -7,11 +7,10 @@ import time
 
 import rospy
 
-from rbx1_nav.sim_time.member_ros import enabled as lockstep_enabled
 from rbx1_nav.common.launch_end import parent_is_roslaunch
 from rbx1_nav.common.launch_end_ros import end_sim_time
 from rbx1_nav.common.node_ros import start_node
-from rbx1_nav.sim_time import lockstep_ros
+from rbx1_nav.sim_time import lockstep_ros, switch_ros
 from rbx1_nav.sim_time.pacer import ClockPacer
 
 __all__ = ['sim_clock', 'run_free', 'run_lockstep']
@@ -69,9 +68,9 @@ def _publish(values):
     """/clock, as ``values`` say, until shutdown; the exit status."""
     speed = values['speed']
     pacer = ClockPacer(speed, values['step'], values['start_time'])
-    if not rospy.get_param('/use_sim_time', False):
+    if not switch_ros.use_sim_time():
         rospy.logwarn('sim_clock: /use_sim_time is not set; nodes will ignore /clock')
-    if lockstep_enabled():
+    if switch_ros.lockstep():
         run_lockstep(pacer, speed, values['idle_speed'], values['members'],
                      values['member_wait'])
         return 0

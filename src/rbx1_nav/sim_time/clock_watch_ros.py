@@ -1,6 +1,6 @@
 """A course's watch on a simulated /clock it does not own: the first one
 awaited, a stopped one noticed. Loaded only under /use_sim_time
-(rbx1_nav.sim_time.stepping_ros.watch_clock).
+(rbx1_nav.course_clock_ros).
 """
 import threading
 import time
@@ -50,3 +50,11 @@ class ClockWatchdog(object):
                              'stopped the robot', self.name, self.limit)
                 rospy.signal_shutdown('simulated clock stopped')
                 return
+
+
+def watch_clock(name, wait, timeout, stop):
+    """For a course ticking on a simulated /clock it does not own: wait up to ``wait`` s for
+    the first /clock (CourseAborted if none), then stop the robot (``stop()``) and node ``name``
+    if the clock stands still for max(2 s, ``timeout``)."""
+    require_clock(wait)
+    ClockWatchdog(name, timeout, stop).start()

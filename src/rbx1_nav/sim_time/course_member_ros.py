@@ -1,6 +1,7 @@
-"""A course node's clock under lockstep simulated time: the variant of
-rbx1_nav.motion.ticks_ros.Ticks that the runner gets when the graph steps
-with its nodes (rbx1_nav.sim_time.stepping_ros).
+"""A course node's clock and link to the robot under lockstep simulated
+time: the variants of rbx1_nav.motion.clock_ros.RateClock and
+rbx1_nav.motion.robot_link_ros.RobotLink that the runner is handed when the
+graph steps with its nodes (rbx1_nav.course_clock_ros).
 
 The node is a member from its wait for the transform to the end of its
 course: it joins the owner of simulated time, waits for each grant naming
@@ -36,37 +37,34 @@ from rbx1_nav.sim_time.clock_watch_ros import require_clock
 from rbx1_nav.sim_time.member import BACK, aligned
 
 
-class MemberTicks(object):
-    """The ticks at ``rate`` Hz granted to this node; ``tf_topic`` and
-    ``odom_topic`` (resolved) are the inputs held for the grants. Before
+def member_clock(rate, wait, timeout, stop, tf_topic, odom_topic):
+    """(clock, link) of a course that is a member at ``rate`` Hz;
+    ``tf_topic`` and ``odom_topic`` (resolved) are the inputs held for the
+    grants (the rest: :class:`MemberClock`)."""
+    clock = MemberClock(rate, wait, timeout, stop,
+                        lockstep.Member(inputs=[tf_topic, odom_topic], hold=True))
+    return clock, MemberLink(clock, tf_topic)
+
+
+class MemberClock(object):
+    """The ticks at ``rate`` Hz granted to this node, a ``member``. Before
     the join, the wait for the inputs' connections and the join itself
     each wait up to ``wait`` wall s (~tf_wait); a grant is waited for as
     long as the owner is connected, and up to max(GRANT_LIMIT,
     ``timeout``) wall s (~tf_timeout) after the last tick once it is not
     (the first of a membership, up to ``wait`` too); ``stop()`` stops the
-    robot when the owner is gone."""
+    robot when the owner is gone. ``joined()``, once set, runs on each
+    join (the link's look at who broadcasts the robot's transform)."""
 
-    counts_commands = True
-
-    def __init__(self, rate, wait, timeout, stop, tf_topic, odom_topic):
+    def __init__(self, rate, wait, timeout, stop, member):
         self.rate = rate
         self.wait = wait
         self.timeout = timeout
         self.stop = stop
-        self.tf_topic = tf_topic
-        self.member = lockstep.Member(inputs=[tf_topic, odom_topic], hold=True)
+        self.member = member
         self.grant = None  # the grant of the current tick
         self.unreported = None  # a tick handed out and not reported (ns)
-        self.tf = None  # the course's rbx1_nav.motion.tf_follow_ros.TfFollower
-        self.tf_came = threading.Condition()
-        # The node broadcasting the followed transform, whether it is a
-        # simulator, and the stamp (ns) of the last transform of the
-        # broadcaster that a grant counted.
-        self.broadcaster = self.simulator = self.counted = None
-        # (sender, child frame) -> the newest stamp (ns) a grant counted of
-        # it; child frame -> the newest stamp (ns) heard.
-        self.seen = {}
-        self.heard = {}
+        self.joined = lambda: None
 
     def start(self, name):
         """Before the first course: the first /clock awaited (a stopped one
@@ -96,7 +94,7 @@ class MemberTicks(object):
                 raise CourseAborted('/lockstep is set but this node cannot join: %s. '
                                     'Start the simulator with lockstep too, or set '
                                     '/lockstep false' % err)
-            self._pick(self.tf and self.tf.followed)
+            self.joined()
             joining = True
         while True:
             granted = member.wait_grant(wait)
@@ -132,6 +130,48 @@ class MemberTicks(object):
             self.unreported = None
             member.report(tick, tick + period)
 
+    def pause(self, seconds):
+        """Wait ``seconds`` of ROS time: as granted ticks while a member
+        between courses (time waits for this node), else rospy.sleep."""
+        if self.unreported is None:
+            rospy.sleep(seconds)
+            return
+        end = None
+        for now in self.ticks():
+            if end is None:
+                end = now + rospy.Duration.from_sec(seconds)
+            if now >= end:
+                return
+
+    def leave(self):
+        """Leave the lockstep after the last course."""
+        self.unreported = None
+        self.member.leave()
+
+
+class MemberLink(object):
+    """The course's link to the robot as a member of ``clock`` (a
+    :class:`MemberClock`): ``tf_topic`` (resolved) and odometry held for
+    the grants that count them, each command counted."""
+
+    counts_commands = True
+
+    def __init__(self, clock, tf_topic):
+        self.clock = clock
+        self.member = clock.member
+        self.tf_topic = tf_topic
+        self.tf = None  # the course's rbx1_nav.motion.tf_follow_ros.TfFollower
+        self.tf_came = threading.Condition()
+        # The node broadcasting the followed transform, whether it is a
+        # simulator, and the stamp (ns) of the last transform of the
+        # broadcaster that a grant counted.
+        self.broadcaster = self.simulator = self.counted = None
+        # (sender, child frame) -> the newest stamp (ns) a grant counted of
+        # it; child frame -> the newest stamp (ns) heard.
+        self.seen = {}
+        self.heard = {}
+        clock.joined = lambda: self._pick(self.tf and self.tf.followed)
+
     def arrived(self, topic, msg, item):
         """Count each input message and hold ``item`` until a grant counts
         it; of /tf, note the stamps of its frames (``item`` is the
@@ -151,9 +191,9 @@ class MemberTicks(object):
 
     def take(self, topic, key):
         """The items the current tick's grant counts on ``topic``."""
-        if self.grant is None:
+        if self.clock.grant is None:
             return ()
-        return self.member.take(self.grant, key=key, topic=topic)
+        return self.member.take(self.clock.grant, key=key, topic=topic)
 
     def publisher(self, topic, msg_class, headers=None):
         """Each command written before publish() returns."""
@@ -179,7 +219,7 @@ class MemberTicks(object):
         the base frame found, or None; the same tick on every run (the
         start-up wait, ``deadline``, counts wall seconds)."""
         self.tf = tf
-        for _ in self.ticks():
+        for _ in self.clock.ticks():
             frame = self._found_at(tf)
             if frame is not None:
                 self._pick(frame)
@@ -198,7 +238,7 @@ class MemberTicks(object):
         messages), once a message of it is among those the grant counts;
         one from a node outside lockstep counts as it comes."""
         self._take_tf()
-        grant = self.grant
+        grant = self.clock.grant
         members = set(grant.members) | {
             who for topic, who in zip(grant.topics, grant.senders)
             if topic == self.tf_topic}
@@ -236,7 +276,7 @@ class MemberTicks(object):
         commands), not one published since."""
         self.tf = tf
         self._take_tf()
-        grant = self.grant
+        grant = self.clock.grant
         counted = self.seen.get((self.broadcaster, tf.followed))
         if counted is not None:
             self.counted = counted
@@ -265,21 +305,3 @@ class MemberTicks(object):
         """Wait up to POLL wall s until ``ready()``; its result."""
         with self.tf_came:
             return self.tf_came.wait_for(ready, lockstep.POLL)
-
-    def pause(self, seconds):
-        """Wait ``seconds`` of ROS time: as granted ticks while a member
-        between courses (time waits for this node), else rospy.sleep."""
-        if self.unreported is None:
-            rospy.sleep(seconds)
-            return
-        end = None
-        for now in self.ticks():
-            if end is None:
-                end = now + rospy.Duration.from_sec(seconds)
-            if now >= end:
-                return
-
-    def leave(self):
-        """Leave the lockstep after the last course."""
-        self.unreported = None
-        self.member.leave()

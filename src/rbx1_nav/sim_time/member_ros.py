@@ -21,13 +21,12 @@ from rbx1_nav.common.master_ros import node_answers, topic_graph
 from rbx1_nav.common.rospy_private_ros import (published_connections, publisher_name, sender,
                                               set_rostime, subscribed_connections,
                                               subscriber_name)
-from rbx1_nav.sim_time.stepping_ros import enabled
 from rbx1_nav.msg import LockstepGrant, LockstepReport
 
 __all__ = ['GRANT_TOPIC', 'REPORT_TOPIC', 'GRANT_LIMIT', 'POLL', 'STALLED',
            'NO_OWNER_WARNING', 'NO_OWNER_REMINDER', 'no_owner_text', 'NoOwnerWarning',
            'connected_publishers', 'JoinError',
-           'Member', 'CountedPublisher', 'enabled']
+           'Member', 'CountedPublisher']
 
 #: Global topics, like /clock: one owner of simulated time per master.
 GRANT_TOPIC = '/lockstep_grant'
