@@ -63,7 +63,7 @@ precise:=true`; `roslaunch --ros-args` lists them).
 
 **The runner's parameters.** The motion nodes (`odom_out_and_back.py`,
 `timed_out_and_back.py`, `nav_square.py`, the calibrations, `umbmark.py`)
-end with the runner's (`rbx1_nav.motion.runner_ros`, from `rate` on), and
+end with the runner's (`rbx1_nav.motion.runner.runner_ros`, from `rate` on), and
 all of them also hear `odom`, only its velocity: the summary counts the
 spells the robot stood still while commanded. In more detail: `tf_wait`
 counts wall seconds, for `/clock` under simulated time, the first

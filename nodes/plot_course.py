@@ -16,7 +16,7 @@ record:=true out:=fused.bag`` and plot ``fused.bag``. No ROS master is needed.
 """
 import sys
 
-from rbx1_nav.motion.course_plot_ros import main
+from rbx1_nav.motion.plot.course_plot_ros import main
 
 if __name__ == '__main__':
     sys.exit(main(__doc__))

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """teleop_keyboard.py - drive the robot from the keyboard of a terminal.
 
-Keys as in teleop_twist_keyboard (rbx1_nav.motion.teleop has the map, the speed
+Keys as in teleop_twist_keyboard (rbx1_nav.motion.teleop.teleop has the map, the speed
 steps and the key-release timeout): hold i to drive forward, j/l to turn,
 u/o/m/. for arcs, k or space to stop; q/z w/x e/c change the speeds; Q or
 Ctrl-C stops the robot and quits.
@@ -20,8 +20,8 @@ import signal
 signal.signal(signal.SIGINT, signal.SIG_DFL)  # a signal during the imports: gone, quietly
 
 from rbx1_nav.common.node_ros import exit_node  # noqa: E402
-from rbx1_nav.motion.teleop import PARAMS  # noqa: E402
-from rbx1_nav.motion.teleop_ros import main  # noqa: E402
+from rbx1_nav.motion.teleop.teleop import PARAMS  # noqa: E402
+from rbx1_nav.motion.teleop.teleop_ros import main  # noqa: E402
 
 NAME = 'teleop_keyboard'
 

@@ -8,14 +8,14 @@ ticks as if every turn ran at 1 rad/s, each duration comes from the speeds
 and is timed on ROS time, so the course also works at other speeds and
 under simulated time. No odometry is needed to drive; if the odom -> base
 transform exists it is watched (staleness stops the robot) and the summary
-line gives the final pose. The course lives in rbx1_nav.motion.book, the
-ROS side in rbx1_nav.motion.runner_ros.
+line gives the final pose. The course lives in rbx1_nav.motion.course.book, the
+ROS side in rbx1_nav.motion.runner.runner_ros.
 
 Publishes:  cmd_vel (geometry_msgs/Twist), relative.
 Subscribes: odom (nav_msgs/Odometry), only its velocity: the summary counts the
             spells the robot stood still while commanded to move.
 Parameters: the book's values by default; ~rate and every one after it
-are the runner's (rbx1_nav.motion.runner_ros), shared by every motion node.
+are the runner's (rbx1_nav.motion.runner.runner_ros), shared by every motion node.
 Exit status: 0 after a completed course, 1 otherwise; the robot is always
 sent a stop.
 """
@@ -26,8 +26,8 @@ signal.signal(signal.SIGINT, signal.SIG_DFL)  # a signal during the imports: gon
 
 from rbx1_nav.common.node_ros import exit_node  # noqa: E402
 from rbx1_nav.course_clock_ros import course_clock  # noqa: E402
-from rbx1_nav.motion.book import TIMED_OUT_AND_BACK  # noqa: E402
-from rbx1_nav.motion.runner_ros import common_params, run_course_node  # noqa: E402
+from rbx1_nav.motion.course.book import TIMED_OUT_AND_BACK  # noqa: E402
+from rbx1_nav.motion.runner.runner_ros import common_params, run_course_node  # noqa: E402
 
 NAME = 'timed_out_and_back'
 PARAMS = TIMED_OUT_AND_BACK.params + common_params(rate=TIMED_OUT_AND_BACK.rate)

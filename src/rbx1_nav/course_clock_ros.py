@@ -7,8 +7,8 @@ sim_time, and a real robot's course loads no lockstep module.
 """
 import functools
 
-from rbx1_nav.motion.clock_ros import RateClock
-from rbx1_nav.motion.robot_link_ros import RobotLink
+from rbx1_nav.motion.runner.clock_ros import RateClock
+from rbx1_nav.motion.runner.robot_link_ros import RobotLink
 from rbx1_nav.sim_time import switch_ros
 
 __all__ = ['course_clock']

@@ -19,7 +19,7 @@ from nav_msgs.msg import Odometry
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from course_harness import (CourseProcess, RobotWatch, TopicLog,  # noqa: E402
                             wait_sim, wait_under_way)
-from rbx1_nav.motion.command import pose_error  # noqa: E402
+from rbx1_nav.motion.course.command import pose_error  # noqa: E402
 from rbx1_nav.transform_utils import Pose2D, quat_to_angle  # noqa: E402
 
 

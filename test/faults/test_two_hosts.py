@@ -250,7 +250,7 @@ def test_link_cut_mid_leg_stops_the_robot_and_the_course_exits(hosts):
 
 #: Where a precise out-and-back (SHORT_COURSE + PRECISE) ends, by ground
 #: truth, from its start. Precise mode checks each goal on a still robot and
-#: ends a step within CHECK = 0.1 s of creep of it (rbx1_nav.motion.precise):
+#: ends a step within CHECK = 0.1 s of creep of it (rbx1_nav.motion.course.precise):
 #: a drive within 0.01 m/s x 0.1 s = 1 mm, a turn within 0.02 rad/s x 0.1 s
 #: = 0.11 deg. The return drive holds the heading the first turn left, so
 #: it ends up to 0.4 m x sin 0.11 deg = 0.8 mm aside: 1 + 1 + 0.8 mm in all,
@@ -503,7 +503,7 @@ def test_twenty_percent_loss_precise_courses_ride_it_out(hosts):
         # Ground-truth changes the recorder printed after the summary line.
         r['late'] = r['summary'] and len([row for row in rows if row[0] > r['summary'][0]])
         # What the course saw move after its last step, while it waited for
-        # a still robot (rbx1_nav.motion.settle), and whether it settled.
+        # a still robot (rbx1_nav.motion.course.settle), and whether it settled.
         r['after'] = found(r'moved ([^(]*) after the course ended', r['course'].lines)
         r['unsettled'] = any('did not settle' in line for _, line in r['course'].lines)
         r['on_way'] = found(r'still on their way ([0-9.]+ s)', r['course'].lines)

@@ -23,7 +23,7 @@ from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Log
 
 from rbx1_nav.common.publish_ros import link
-from rbx1_nav.motion.command import pose_error
+from rbx1_nav.motion.course.command import pose_error
 from rbx1_nav.transform_utils import Pose2D, quat_to_angle
 from rosrun import node_path
 

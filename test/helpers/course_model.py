@@ -12,8 +12,8 @@ test/integration/test_physics_umbmark.py.
 import math
 
 from rbx1_nav.sim.diff_drive import DiffDriveSim
-from rbx1_nav.motion.book import CourseConfig, OutAndBack
-from rbx1_nav.motion.settle import SETTLE_PARAMS, WAITING, Settle
+from rbx1_nav.motion.course.book import CourseConfig, OutAndBack
+from rbx1_nav.motion.course.settle import SETTLE_PARAMS, WAITING, Settle
 
 #: The runner's settle_time and settle_timeout, at their defaults.
 SETTLE = tuple(p.default for p in SETTLE_PARAMS)
@@ -25,7 +25,7 @@ def reference_end_poses(course_params, courses=1):
     course node after another drives it.
 
     ``course_params`` are the node's private parameters (angular_tolerance
-    in degrees, rate in Hz; the rest as rbx1_nav.motion.book.CourseConfig).
+    in degrees, rate in Hz; the rest as rbx1_nav.motion.course.book.CourseConfig).
     """
     settings = dict(course_params)
     rate = settings.pop('rate', 20.0)
@@ -55,12 +55,12 @@ def reference_end_pose(course_params):
 
 
 def drive(robot, course, now, period=0.05, breakaway=None):
-    """``course`` (rbx1_nav.motion.course.Course) on ``robot`` (a
+    """``course`` (rbx1_nav.motion.course.course.Course) on ``robot`` (a
     simulator's robot: ``odom``, ``truth``, ``command(v, w, t)``,
     ``fleet.step(t)``) from ``now`` (s), as the runner
-    (rbx1_nav.motion.runner_ros) drives it under lockstep: odometry read and
+    (rbx1_nav.motion.runner.runner_ros) drives it under lockstep: odometry read and
     a command sent every ``period`` s, each held for one period; at the end
-    zero commanded until odometry stands still (rbx1_nav.motion.settle, at
+    zero commanded until odometry stands still (rbx1_nav.motion.course.settle, at
     the runner's defaults). ``breakaway``: the creep speeds the runner's
     courses share. Returns (odometry's settled pose, the time reached)."""
     if breakaway is not None:

@@ -1,7 +1,7 @@
 """An ideal robot and a control loop for the course unit tests (no ROS)."""
 import math
 
-from rbx1_nav.motion.command import STOP
+from rbx1_nav.motion.course.command import STOP
 from rbx1_nav.transform_utils import Pose2D, normalize_angle
 
 DT = 0.05  # the book's 20 Hz control rate

@@ -12,7 +12,7 @@ import subprocess
 
 import pytest
 
-IMPORT = ('import rbx1_nav, rbx1_nav.motion.runner_ros; '
+IMPORT = ('import rbx1_nav, rbx1_nav.motion.runner.runner_ros; '
           'from rbx1_nav.cfg import CalibrateLinearConfig as L, '
           'CalibrateAngularConfig as A; '
           'print(rbx1_nav.__file__); print(sorted(L.defaults)); '

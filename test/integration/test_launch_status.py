@@ -100,7 +100,7 @@ def truth_rows(text):
     return rows
 
 
-#: The book's out-and-back (rbx1_nav.motion.book.OUT_AND_BACK), each
+#: The book's out-and-back (rbx1_nav.motion.course.book.OUT_AND_BACK), each
 #: parameter at its default: 1 m out at 0.15 m/s, a turn of 180 deg at
 #: 0.5 rad/s, the same back and again.
 DEFAULT_DISTANCE, DEFAULT_SPEED, DEFAULT_TURN_SPEED = 1.0, 0.15, 0.5

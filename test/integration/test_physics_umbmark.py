@@ -47,7 +47,7 @@ import parameters_page  # noqa: E402
 from course_model import drive  # noqa: E402
 
 from rbx1_nav.calibration import umbmark  # noqa: E402
-from rbx1_nav.motion.precise import Breakaway, approach  # noqa: E402
+from rbx1_nav.motion.course.precise import Breakaway, approach  # noqa: E402
 from rbx1_nav.sim.physics import PhysicsConfig, PhysicsFleet  # noqa: E402
 
 ROBOT = {'floor': 'carpet', 'seed': 1}

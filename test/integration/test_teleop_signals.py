@@ -16,7 +16,7 @@ import pytest
 SCRIPT = r'''
 import os, signal, sys, time
 import rospy
-from rbx1_nav.motion import teleop_ros
+from rbx1_nav.motion.teleop import teleop_ros
 
 sent = []
 

@@ -34,7 +34,7 @@ from nav_msgs.msg import Odometry
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from course_harness import (CourseProcess, FakeRobot, RobotWatch,  # noqa: E402
                             course_end_error, wait_sim)
-from rbx1_nav.motion.book import TIMED_OUT_AND_BACK  # noqa: E402
+from rbx1_nav.motion.course.book import TIMED_OUT_AND_BACK  # noqa: E402
 from rbx1_nav.sim.physics import PhysicsConfig, PhysicsFleet  # noqa: E402
 from rbx1_nav.transform_utils import quat_to_angle  # noqa: E402
 

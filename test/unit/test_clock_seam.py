@@ -1,6 +1,6 @@
 """The seam that keeps simulated time out of motion/: a course's clock and
-link to the robot are rbx1_nav.motion.clock_ros.RateClock and
-rbx1_nav.motion.robot_link_ros.RobotLink on a real robot or, under lockstep,
+link to the robot are rbx1_nav.motion.runner.clock_ros.RateClock and
+rbx1_nav.motion.runner.robot_link_ros.RobotLink on a real robot or, under lockstep,
 rbx1_nav.sim_time.course_member_ros.MemberClock and MemberLink, which do not
 subclass them (sim_time imports nothing of motion). The runner cannot tell
 them apart: each answers every question its twin does, with the same
@@ -9,8 +9,8 @@ import inspect
 
 import pytest
 
-from rbx1_nav.motion.clock_ros import RateClock
-from rbx1_nav.motion.robot_link_ros import RobotLink
+from rbx1_nav.motion.runner.clock_ros import RateClock
+from rbx1_nav.motion.runner.robot_link_ros import RobotLink
 from rbx1_nav.sim_time.course_member_ros import MemberClock, MemberLink
 
 

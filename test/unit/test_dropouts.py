@@ -1,10 +1,10 @@
-"""rbx1_nav.motion.loop.Dropouts: a stale transform is held, ridden out, or given up."""
+"""rbx1_nav.motion.runner.loop.Dropouts: a stale transform is held, ridden out, or given up."""
 import pytest
 
-from rbx1_nav.motion.loop import FRESH, HOLD, LOST, Dropouts
-from rbx1_nav.motion.command import STOP
-from rbx1_nav.motion.course import Course
-from rbx1_nav.motion.steps import Drive
+from rbx1_nav.motion.runner.loop import FRESH, HOLD, LOST, Dropouts
+from rbx1_nav.motion.course.command import STOP
+from rbx1_nav.motion.course.course import Course
+from rbx1_nav.motion.course.steps import Drive
 from rbx1_nav.transform_utils import Pose2D
 
 

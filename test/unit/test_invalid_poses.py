@@ -1,10 +1,10 @@
-"""rbx1_nav.motion.invalid_poses: what tf2 drops (NaN, a rotation that is not a unit
+"""rbx1_nav.motion.runner.invalid_poses: what tf2 drops (NaN, a rotation that is not a unit
 quaternion) is judged as tf2 judges it, and the course's texts name the node and the fault."""
 import math
 
 import pytest
 
-from rbx1_nav.motion.invalid_poses import (UNIT_TOLERANCE, InvalidPoses, invalid_odom_text,
+from rbx1_nav.motion.runner.invalid_poses import (UNIT_TOLERANCE, InvalidPoses, invalid_odom_text,
                                            invalid_update_text, no_transform_text, pose_problem)
 
 NAN, INF = float('nan'), float('inf')

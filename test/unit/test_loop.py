@@ -1,11 +1,11 @@
-"""The control loop's pieces (rbx1_nav.motion.loop), each alone: times are
+"""The control loop's pieces (rbx1_nav.motion.runner.loop), each alone: times are
 genpy's Time, as rospy's are."""
 import pytest
 from genpy import Time
 
 from rbx1_nav.common.aborted import CourseAborted
-from rbx1_nav.motion.loop import Hold, TfReading, Settling, StallCheck
-from rbx1_nav.motion.settle import GAVE_UP, STILL, Settle
+from rbx1_nav.motion.runner.loop import Hold, TfReading, Settling, StallCheck
+from rbx1_nav.motion.course.settle import GAVE_UP, STILL, Settle
 from rbx1_nav.transform_utils import Pose2D
 
 

@@ -1,4 +1,4 @@
-"""Unit tests for the motion core (rbx1_nav.motion.course, .steps, .precise,
+"""Unit tests for the motion core (rbx1_nav.motion.course.course, .steps, .precise,
 .in_flight, .stalls): the primitives and the Course, no ROS.
 
 The out-and-back rules are covered in test_out_and_back.py; here the open-
@@ -12,13 +12,13 @@ from hypothesis import given, settings, strategies as st
 
 from ideal_robot import DT, IdealRobot, run
 from rbx1_nav.common import params
-from rbx1_nav.motion.command import STOP, Command, pose_error
-from rbx1_nav.motion.course import Course, legs_course, legs_params
-from rbx1_nav.motion.summary import control_rates
-from rbx1_nav.motion.in_flight import InFlight
-from rbx1_nav.motion.precise import PRECISE_PARAMS, Approach, approach
-from rbx1_nav.motion.stalls import Stalls
-from rbx1_nav.motion.steps import Drive, Pause, TimedDrive, TimedTurn, Turn
+from rbx1_nav.motion.course.command import STOP, Command, pose_error
+from rbx1_nav.motion.course.course import Course, legs_course, legs_params
+from rbx1_nav.motion.course.summary import control_rates
+from rbx1_nav.motion.course.in_flight import InFlight
+from rbx1_nav.motion.course.precise import PRECISE_PARAMS, Approach, approach
+from rbx1_nav.motion.course.stalls import Stalls
+from rbx1_nav.motion.course.steps import Drive, Pause, TimedDrive, TimedTurn, Turn
 from rbx1_nav.transform_utils import Pose2D
 
 PRECISE = Approach(1.0, 4.0, 0.005, 0.01)

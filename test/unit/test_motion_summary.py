@@ -2,9 +2,9 @@
 import math
 from types import SimpleNamespace
 
-from rbx1_nav.motion.stalls import Stalls
-from rbx1_nav.motion.cmd_vel import listener_hint
-from rbx1_nav.motion.summary import stalls_text, summary_line
+from rbx1_nav.motion.course.stalls import Stalls
+from rbx1_nav.motion.runner.cmd_vel import listener_hint
+from rbx1_nav.motion.course.summary import stalls_text, summary_line
 from rbx1_nav.transform_utils import Pose2D
 
 

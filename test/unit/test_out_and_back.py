@@ -1,4 +1,4 @@
-"""Unit tests for rbx1_nav.motion.book: the course state machine, no ROS.
+"""Unit tests for rbx1_nav.motion.course.book: the course state machine, no ROS.
 
 An idealised robot integrates each command for one control period; the
 tests check what a user would see: the legs in order, the pauses, the
@@ -10,8 +10,8 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from ideal_robot import DT, IdealRobot, run
-from rbx1_nav.motion.book import CourseConfig, OutAndBack, expected_end_pose
-from rbx1_nav.motion.command import STOP, Command, pose_error
+from rbx1_nav.motion.course.book import CourseConfig, OutAndBack, expected_end_pose
+from rbx1_nav.motion.course.command import STOP, Command, pose_error
 from rbx1_nav.transform_utils import Pose2D, normalize_angle
 
 def segments(rows):

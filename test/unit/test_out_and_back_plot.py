@@ -1,9 +1,9 @@
-"""Unit tests for rbx1_nav.motion.course_plot (the plotting half of plot_course.py)."""
+"""Unit tests for rbx1_nav.motion.plot.course_plot (the plotting half of plot_course.py)."""
 import math
 
 import pytest
 
-from rbx1_nav.motion.course_plot import (Track, describe_error, describe_final_offset,
+from rbx1_nav.motion.plot.course_plot import (Track, describe_error, describe_final_offset,
                                          end_error, final_offset, plot_course)
 
 

@@ -255,14 +255,17 @@ def _design_layout():
 
 
 def test_design_layout_names_every_module_of_each_subsystem():
-    """Each subsystem's bullet names exactly the modules in its folder."""
+    """Each subsystem's bullet, and each of its folders', names exactly the
+    modules in that folder."""
     layout = _design_layout()
-    for sub in SUBSYSTEMS:
-        key = 'src/rbx1_nav/%s/' % sub
+    for folder, _, files in os.walk(PACKAGE):
+        rel = os.path.relpath(folder, PACKAGE)
+        there = {f[:-3] for f in files if f.endswith('.py')} - {'__init__'}
+        if rel == '.' or '__pycache__' in rel or not (there or rel in SUBSYSTEMS):
+            continue
+        key = 'src/rbx1_nav/%s/' % rel.replace(os.sep, '/')
         assert key in layout, 'docs/design.md Layout has no bullet for %s' % key
         named = set(re.findall(r'`([a-z_0-9]+)`', layout[key]))
-        there = {os.path.basename(p)[:-3]
-                 for p in glob.glob(os.path.join(PACKAGE, sub, '*.py'))} - {'__init__'}
         assert there - named == set(), 'docs/design.md Layout leaves out %s' % sorted(there - named)
         assert named - there == set(), 'docs/design.md Layout names %s, not in %s' % (
             sorted(named - there), key)
@@ -299,7 +302,7 @@ def test_a_course_nodes_help_says_truly_which_parameters_are_the_runners():
     import sys
     sys.path.insert(0, os.path.join(ROOT, 'test', 'helpers'))
     import parameters_page
-    from rbx1_nav.motion.runner_ros import common_params
+    from rbx1_nav.motion.runner.runner_ros import common_params
     runner = [spec.name for spec in common_params(rate=10)]
     assert runner[0] == 'rate'
     load = parameters_page.load().load

@@ -394,7 +394,7 @@ def test_a_leftover_on_the_master_only_warns():
 def test_a_range_or_type_error_names_the_unit_and_where_the_books_nodes_differ():
     """_goal_angle:=180 on odom_out_and_back.py: radians, as the book's
     script, converted; nav_square.py's goal_angle is in degrees."""
-    from rbx1_nav.motion.book import NAV_SQUARE, OUT_AND_BACK
+    from rbx1_nav.motion.course.book import NAV_SQUARE, OUT_AND_BACK
 
     def error(specs, name, value):
         return check_errors(specs, {name: value})

@@ -1,9 +1,9 @@
-"""rbx1_nav.motion.settle: after a course, wait for a still robot and take its pose."""
+"""rbx1_nav.motion.course.settle: after a course, wait for a still robot and take its pose."""
 import math
 
 import pytest
 
-from rbx1_nav.motion.settle import (ANGULAR_EPS, GAVE_UP, LINEAR_EPS, STILL,
+from rbx1_nav.motion.course.settle import (ANGULAR_EPS, GAVE_UP, LINEAR_EPS, STILL,
                                     WAITING, Settle, delivered, moved_text)
 from rbx1_nav.transform_utils import Pose2D
 

@@ -1,13 +1,13 @@
-"""Unit tests for rbx1_nav.motion.teleop: keyboard teleop keys, speeds, timeout."""
+"""Unit tests for rbx1_nav.motion.teleop.teleop: keyboard teleop keys, speeds, timeout."""
 import math
 
 import pytest
 
-from rbx1_nav.motion.command import MAX_ANGULAR_SPEED
-from rbx1_nav.motion.teleop import (MOTION_KEYS, NOT_A_TERMINAL, PARAMS, POLL, QUIT_KEYS,
+from rbx1_nav.motion.course.command import MAX_ANGULAR_SPEED
+from rbx1_nav.motion.teleop.teleop import (MOTION_KEYS, NOT_A_TERMINAL, PARAMS, POLL, QUIT_KEYS,
                                     SPEED_KEYS, STOP_KEYS, KeyboardTeleop, Speeds, check_settings,
                                     help_text)
-from rbx1_nav.motion.command import STOP
+from rbx1_nav.motion.course.command import STOP
 
 DEFAULTS = dict((spec.name, spec.default) for spec in PARAMS)
 

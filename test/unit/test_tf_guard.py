@@ -1,12 +1,12 @@
-"""rbx1_nav.motion.tf_guard: a transform from two nodes, or one that jumps
+"""rbx1_nav.motion.runner.tf_guard: a transform from two nodes, or one that jumps
 further than the robot can move at the course's speeds, is named once."""
 import math
 
 import pytest
 
 from rbx1_nav.common.tf_publishers import foreign_parent, robot_conflict_text
-from rbx1_nav.motion.course import Course, legs_course
-from rbx1_nav.motion.tf_guard import (EXTRA_ANGULAR, EXTRA_LINEAR, MARGIN,
+from rbx1_nav.motion.course.course import Course, legs_course
+from rbx1_nav.motion.runner.tf_guard import (EXTRA_ANGULAR, EXTRA_LINEAR, MARGIN,
                                       SLACK_ANGULAR, SLACK_LINEAR,
                                       TransformGuard, top_speeds)
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from ideal_robot import run
-from rbx1_nav.motion.precise import Approach
+from rbx1_nav.motion.course.precise import Approach
 from rbx1_nav.calibration.umbmark import (FALSE_ALARM, RESOLUTION, analyse, calibrated, check_errors, corrections,
                                           compare_text, critical, evaluate,
                                           first_order, load,

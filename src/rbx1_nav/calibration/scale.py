@@ -17,8 +17,8 @@ driver: the test then drives until corrected odometry reaches the goal.
 import math
 from collections import namedtuple
 
-from rbx1_nav.motion.course import Course
-from rbx1_nav.motion.steps import Drive, Pause, Turn
+from rbx1_nav.motion.course.course import Course
+from rbx1_nav.motion.course.steps import Drive, Pause, Turn
 from rbx1_nav.transform_utils import normalize_angle
 
 __all__ = ['Kind', 'LINEAR', 'ANGULAR', 'PoseTrack', 'course', 'measure',

@@ -3,7 +3,7 @@
 Like the book's nodes, each is a dynamic_reconfigure server that waits for
 ``start_test``; setting it (from rqt_reconfigure where installed, with
 ``rosrun dynamic_reconfigure dynparam set``, or ``_start_test:=true`` on the
-command line) runs one test through rbx1_nav.motion.runner_ros, then clears it.
+command line) runs one test through rbx1_nav.motion.runner.runner_ros, then clears it.
 The node then needs the distance or angle really covered: from
 ``~ground_truth_topic`` (nav_msgs/Odometry, e.g. the simulator's
 ground_truth) when set, otherwise from the ``measured_*`` field the user
@@ -25,7 +25,7 @@ from rbx1_nav.calibration import scale
 from rbx1_nav.common import params
 from rbx1_nav.common.params import param
 from rbx1_nav.common.node_ros import start_node
-from rbx1_nav.motion.runner_ros import MotionRunner, common_params, guarded
+from rbx1_nav.motion.runner.runner_ros import MotionRunner, common_params, guarded
 from rbx1_nav.calibration.truth_ros import TRUTH_PARAM, GroundTruth
 
 NODE_PARAMS = (

@@ -92,8 +92,8 @@ from collections import namedtuple
 import numpy as np
 import yaml
 
-from rbx1_nav.motion.course import Course
-from rbx1_nav.motion.steps import Drive, Pause, Turn
+from rbx1_nav.motion.course.course import Course
+from rbx1_nav.motion.course.steps import Drive, Pause, Turn
 
 __all__ = ['relative', 'square_course', 'check_errors', 'analyse',
            'analyse_runs', 'Result', 'Scatter', 'FALSE_ALARM', 'RESOLUTION', 'critical',

@@ -4,7 +4,7 @@ and the true return positions, analyse them (rbx1_nav.calibration.umbmark).
 The true positions come from ``~ground_truth_topic`` (rbx1_nav.calibration.
 truth_ros) when set, else from the user at the terminal; without either the
 node drives the runs and prints the command that analyses the measurements
-afterwards. The runs go through rbx1_nav.motion.runner_ros, which stops the
+afterwards. The runs go through rbx1_nav.motion.runner.runner_ros, which stops the
 robot on every exit path.
 """
 import os
@@ -16,8 +16,8 @@ import rospy
 from rbx1_nav.calibration import umbmark
 from rbx1_nav.calibration.truth_ros import GroundTruth
 from rbx1_nav.common.node_ros import start_node
-from rbx1_nav.motion.precise import approach
-from rbx1_nav.motion.runner_ros import MotionRunner, guarded
+from rbx1_nav.motion.course.precise import approach
+from rbx1_nav.motion.runner.runner_ros import MotionRunner, guarded
 from rbx1_nav.common.aborted import CourseAborted
 
 NAME = 'umbmark'

@@ -1,3 +1,3 @@
-"""Motion: the courses, the book's courses, teleop, and the runner that drives them on ROS
-(docs/design.md). Knows no simulator or filter; simulated time enters only through the course's
-clock (ticks_ros). ``*_ros.py`` modules import rospy; the others do not."""
+"""Motion: the pure course (course/), the runner that drives it on ROS (runner/), teleop
+(teleop/) and the course plot (plot/) (docs/design.md). Knows no simulator, filter or simulated
+time: a course's clock is handed to the runner. ``*_ros.py`` modules import rospy."""

@@ -1,6 +1,6 @@
 """A course node's clock and link to the robot under lockstep simulated
-time: the variants of rbx1_nav.motion.clock_ros.RateClock and
-rbx1_nav.motion.robot_link_ros.RobotLink that the runner is handed when the
+time: the variants of rbx1_nav.motion.runner.clock_ros.RateClock and
+rbx1_nav.motion.runner.robot_link_ros.RobotLink that the runner is handed when the
 graph steps with its nodes (rbx1_nav.course_clock_ros).
 
 The node is a member from its wait for the transform to the end of its
@@ -160,7 +160,7 @@ class MemberLink(object):
         self.clock = clock
         self.member = clock.member
         self.tf_topic = tf_topic
-        self.tf = None  # the course's rbx1_nav.motion.tf_follow_ros.TfFollower
+        self.tf = None  # the course's rbx1_nav.motion.runner.tf_follow_ros.TfFollower
         self.tf_came = threading.Condition()
         # The node broadcasting the followed transform, whether it is a
         # simulator, and the stamp (ns) of the last transform of the

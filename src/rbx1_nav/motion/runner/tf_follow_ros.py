@@ -10,8 +10,8 @@ import tf2_ros
 
 from rbx1_nav.common.aborted import CourseAborted
 from rbx1_nav.common.rospy_private_ros import sender
-from rbx1_nav.motion.deadline_ros import Deadline
-from rbx1_nav.motion.invalid_poses import InvalidPoses, no_transform_text, pose_problem
+from rbx1_nav.motion.runner.deadline_ros import Deadline
+from rbx1_nav.motion.runner.invalid_poses import InvalidPoses, no_transform_text, pose_problem
 from rbx1_nav.transform_utils import Pose2D, quat_to_angle
 
 BASE_FRAME_CANDIDATES = ('base_footprint', 'base_link')

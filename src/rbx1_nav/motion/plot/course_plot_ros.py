@@ -1,5 +1,5 @@
 """The bag side of plot_course.py: read the pose tracks a bag holds and
-plot them with rbx1_nav.motion.course_plot (the plotting, without rosbag).
+plot them with rbx1_nav.motion.plot.course_plot (the plotting, without rosbag).
 No ROS master is needed.
 """
 import argparse
@@ -8,7 +8,7 @@ import sys
 
 import rosbag
 
-from rbx1_nav.motion.course_plot import (Track, describe_error,
+from rbx1_nav.motion.plot.course_plot import (Track, describe_error,
                                          describe_final_offset, plot_course)
 from rbx1_nav.transform_utils import quat_to_angle
 

@@ -7,8 +7,8 @@ in its own direction, on a cycle that commands a stop.
 """
 import math
 
-from rbx1_nav.motion.command import DRIVE, MAX_ANGULAR_SPEED, PAUSE, STOP, TURN, Command, clamp
-from rbx1_nav.motion.precise import PreciseMode
+from rbx1_nav.motion.course.command import DRIVE, MAX_ANGULAR_SPEED, PAUSE, STOP, TURN, Command, clamp
+from rbx1_nav.motion.course.precise import PreciseMode
 from rbx1_nav.transform_utils import Pose2D, normalize_angle
 
 __all__ = ['Step', 'Pause', 'Drive', 'Turn', 'TimedDrive', 'TimedTurn', 'DRIVE_AXIS', 'TURN_AXIS']

@@ -1,6 +1,6 @@
 """Plot an out-and-back run: odometry and true paths, start and end poses.
 
-No rospy or rosbag here: rbx1_nav.motion.course_plot_ros (plot_course.py) reads a bag into
+No rospy or rosbag here: rbx1_nav.motion.plot.course_plot_ros (plot_course.py) reads a bag into
 :class:`Track` objects and calls :func:`plot_course`. The error shown is
 the end pose against the start pose, which is what the book's course (two
 legs of 1 m out and a half turn) should return to.

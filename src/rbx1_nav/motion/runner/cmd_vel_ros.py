@@ -13,8 +13,8 @@ from rbx1_nav.common.master_ros import topic_graph
 from rbx1_nav.common.aborted import CourseAborted
 from rbx1_nav.common.rospy_private_ros import (connection_header, connections,
                                               subscriber_name, unsent_bytes)
-from rbx1_nav.motion.deadline_ros import Deadline
-from rbx1_nav.motion.cmd_vel import listener_hint
+from rbx1_nav.motion.runner.deadline_ros import Deadline
+from rbx1_nav.motion.runner.cmd_vel import listener_hint
 
 
 class CmdVel(object):

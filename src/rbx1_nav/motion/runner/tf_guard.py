@@ -9,8 +9,8 @@ overshooting motor controller. No rospy: times are float seconds, angles radians
 """
 import math
 
-from rbx1_nav.motion.command import DRIVE
-from rbx1_nav.motion.invalid_poses import invalid_update_text
+from rbx1_nav.motion.course.command import DRIVE
+from rbx1_nav.motion.runner.invalid_poses import invalid_update_text
 
 __all__ = ['MARGIN', 'EXTRA_LINEAR', 'EXTRA_ANGULAR', 'SLACK_LINEAR',
            'SLACK_ANGULAR', 'TransformGuard', 'top_speeds']

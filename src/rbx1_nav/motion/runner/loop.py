@@ -9,7 +9,7 @@ says FRESH (steer), HOLD (command zero, wait up to ``grace`` s more, ~link_grace
 from collections import namedtuple
 
 from rbx1_nav.common.aborted import CourseAborted
-from rbx1_nav.motion.settle import WAITING, delivered
+from rbx1_nav.motion.course.settle import WAITING, delivered
 
 __all__ = ['TfReading', 'Dropouts', 'Hold', 'StallCheck', 'Settling', 'FRESH', 'HOLD', 'LOST']
 

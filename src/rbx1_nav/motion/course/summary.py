@@ -1,7 +1,7 @@
 """The summary line a motion node logs after a course (rospy-free)."""
 import math
 
-from rbx1_nav.motion.command import pose_error
+from rbx1_nav.motion.course.command import pose_error
 from rbx1_nav.transform_utils import normalize_angle
 
 

@@ -1,5 +1,5 @@
 """The ROS side of teleop_keyboard.py: the terminal, one key at a time, and
-the cmd_vel publisher, around rbx1_nav.motion.teleop's keyboard logic.
+the cmd_vel publisher, around rbx1_nav.motion.teleop.teleop's keyboard logic.
 
 The robot is always sent a stop (a zero Twist, the last message), on a
 quit key, Ctrl-C, a signal, rosnode kill, a closed terminal or an error,
@@ -23,8 +23,8 @@ from rbx1_nav.common import params, params_given
 from rbx1_nav.common.cmd_vel_watch_ros import watch_publishers
 from rbx1_nav.common.node_ros import (exit_if_help, init_node, keep_command_line,
                                       mend_rospy_shutdown, private_params, shut_down_on_signals)
-from rbx1_nav.motion.teleop import NOT_A_TERMINAL, KeyboardTeleop, check_settings, help_text
-from rbx1_nav.motion.command import STOP
+from rbx1_nav.motion.teleop.teleop import NOT_A_TERMINAL, KeyboardTeleop, check_settings, help_text
+from rbx1_nav.motion.course.command import STOP
 
 
 class Keyboard(object):

@@ -8,8 +8,8 @@ from nav_msgs.msg import Odometry
 from rbx1_nav.common.master_ros import MasterWatch
 from rbx1_nav.common.master_watch import gone_text, restarted_text
 from rbx1_nav.common.rospy_private_ros import sender
-from rbx1_nav.motion.invalid_poses import InvalidPoses, invalid_odom_text, pose_problem
-from rbx1_nav.motion.loop import StallCheck
+from rbx1_nav.motion.runner.invalid_poses import InvalidPoses, invalid_odom_text, pose_problem
+from rbx1_nav.motion.runner.loop import StallCheck
 
 WARN_PERIOD = 10.0  # s between warnings about an old transform or a stall
 

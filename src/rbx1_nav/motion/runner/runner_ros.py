@@ -13,14 +13,14 @@ from rbx1_nav.common.params import param
 from rbx1_nav.common.ros_time import time_moved_back_text
 from rbx1_nav.common.node_ros import forget_command_line, start_node
 from rbx1_nav.common.aborted import CourseAborted
-from rbx1_nav.motion.cmd_vel_ros import CmdVel
-from rbx1_nav.motion.precise import Breakaway
-from rbx1_nav.motion.loop import Hold, Settling, TfReading
-from rbx1_nav.motion.settle import GAVE_UP, SETTLE_PARAMS, Settle, moved_text
-from rbx1_nav.motion.summary import stalls_text, summary_line
-from rbx1_nav.motion.tf_follow_ros import TF_TOPIC, TfFollower
-from rbx1_nav.motion.tf_guard import TransformGuard, top_speeds
-from rbx1_nav.motion.watchdogs_ros import StallWarnings, TfAgeWarnings, watch_master
+from rbx1_nav.motion.runner.cmd_vel_ros import CmdVel
+from rbx1_nav.motion.course.precise import Breakaway
+from rbx1_nav.motion.runner.loop import Hold, Settling, TfReading
+from rbx1_nav.motion.course.settle import GAVE_UP, SETTLE_PARAMS, Settle, moved_text
+from rbx1_nav.motion.course.summary import stalls_text, summary_line
+from rbx1_nav.motion.runner.tf_follow_ros import TF_TOPIC, TfFollower
+from rbx1_nav.motion.runner.tf_guard import TransformGuard, top_speeds
+from rbx1_nav.motion.runner.watchdogs_ros import StallWarnings, TfAgeWarnings, watch_master
 from rbx1_nav.transform_utils import Pose2D
 
 __all__ = ['MotionRunner', 'common_params', 'guarded', 'run_course_node']
@@ -261,7 +261,7 @@ class MotionRunner(object):
                           if course.predicts else '')
 
     def summarize(self, course, final):
-        """Log the summary line (rbx1_nav.motion.summary)."""
+        """Log the summary line (rbx1_nav.motion.course.summary)."""
         held = stalls_text(course.stalls, self.stalls.topic, self.stalls.heard())
         rospy.loginfo(summary_line(self.robot, course, final, self.tf.odom_frame,
                                    self.tick_times, held, self.hold.summary()))

@@ -6,7 +6,7 @@ import bisect
 from collections import deque
 
 from rbx1_nav.common.geometry import arc_step
-from rbx1_nav.motion.command import STOP
+from rbx1_nav.motion.course.command import STOP
 
 __all__ = ['InFlight']
 

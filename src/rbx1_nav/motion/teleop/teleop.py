@@ -1,6 +1,6 @@
 """Keyboard teleoperation as plain logic: key map, speeds, key-release timeout.
 
-No rospy here: rbx1_nav.motion.teleop_ros (teleop_keyboard.py's ROS side)
+No rospy here: rbx1_nav.motion.teleop.teleop_ros (teleop_keyboard.py's ROS side)
 reads keys from the terminal, feeds them (or None when no key came) with
 the time to :meth:`KeyboardTeleop.feed`, publishes the (linear, angular)
 command it returns and shows :meth:`KeyboardTeleop.status`. Tests drive the
@@ -24,7 +24,7 @@ key press; with no motion key for that long the command drops to zero.
 Speed keys do not extend a motion.
 """
 from rbx1_nav.common import params
-from rbx1_nav.motion.command import MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED, STOP, Command
+from rbx1_nav.motion.course.command import MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED, STOP, Command
 from rbx1_nav.common.params import param
 
 __all__ = ['MOTION_KEYS', 'STOP_KEYS', 'SPEED_KEYS',
@@ -61,7 +61,7 @@ NOT_A_TERMINAL = (
 
 
 # The node's private parameters. The package-wide speed limits of
-# rbx1_nav.motion.command bound the maximums; each speed must be within its maximum.
+# rbx1_nav.motion.course.command bound the maximums; each speed must be within its maximum.
 PARAMS = (
     param('linear_speed', 0.2, params.number, 'm/s',
           'forward speed at start', **params.POSITIVE),

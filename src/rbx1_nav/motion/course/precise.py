@@ -7,7 +7,7 @@ from collections import namedtuple
 
 from rbx1_nav.common import params
 from rbx1_nav.common.params import param
-from rbx1_nav.motion.command import DRIVE, MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED, STOP, TURN, clamp
+from rbx1_nav.motion.course.command import DRIVE, MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED, STOP, TURN, clamp
 
 __all__ = ['Approach', 'PRECISE_PARAMS', 'approach', 'Breakaway', 'PreciseMode']
 

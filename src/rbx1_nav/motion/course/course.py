@@ -7,12 +7,12 @@ from collections import namedtuple
 
 from rbx1_nav.common import params
 from rbx1_nav.common.params import param
-from rbx1_nav.motion.command import (DONE, MAX_ANGLE, MAX_ANGULAR_SPEED, MAX_DISTANCE,
+from rbx1_nav.motion.course.command import (DONE, MAX_ANGLE, MAX_ANGULAR_SPEED, MAX_DISTANCE,
                                      MAX_LINEAR_SPEED, MAX_TOLERANCE, PAUSE, STOP, TURN)
-from rbx1_nav.motion.in_flight import InFlight
-from rbx1_nav.motion.precise import Breakaway
-from rbx1_nav.motion.stalls import Stalls
-from rbx1_nav.motion.steps import Drive, Pause, TimedDrive, TimedTurn, Turn
+from rbx1_nav.motion.course.in_flight import InFlight
+from rbx1_nav.motion.course.precise import Breakaway
+from rbx1_nav.motion.course.stalls import Stalls
+from rbx1_nav.motion.course.steps import Drive, Pause, TimedDrive, TimedTurn, Turn
 from rbx1_nav.transform_utils import Pose2D, normalize_angle
 
 __all__ = ['Course', 'Reading', 'legs_course', 'legs_params']
