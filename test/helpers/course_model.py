@@ -12,7 +12,7 @@ test/integration/test_physics_umbmark.py.
 import math
 
 from rbx1_nav.sim.diff_drive import DiffDriveSim
-from rbx1_nav.motion.course.book import CourseConfig, OutAndBack
+from rbx1_nav.motion.course.book import OUT_AND_BACK
 from rbx1_nav.motion.course.settle import SETTLE_PARAMS, WAITING, Settle
 
 #: The runner's settle_time and settle_timeout, at their defaults.
@@ -25,20 +25,18 @@ def reference_end_poses(course_params, courses=1):
     course node after another drives it.
 
     ``course_params`` are the node's private parameters (angular_tolerance
-    in degrees, rate in Hz; the rest as rbx1_nav.motion.course.book.CourseConfig).
+    in degrees, rate in Hz; the rest as rbx1_nav.motion.course.book.OUT_AND_BACK's).
     """
     settings = dict(course_params)
     rate = settings.pop('rate', 20.0)
     settings.pop('tf_timeout', None)
-    settings['angular_tolerance'] = math.radians(
-        settings.get('angular_tolerance', 1.0))
     robot = DiffDriveSim()
     period_ns = int(round(1e9 / rate))
     tick = 0
     robot.step(0.0)
     ends = []
     for _ in range(courses):
-        course = OutAndBack(CourseConfig(**settings))
+        course = OUT_AND_BACK.course(**settings)
         while not course.done:
             cmd = course.update(robot.odom, tick * 1e-9)
             robot.command(cmd.linear, cmd.angular, tick * 1e-9)
@@ -54,17 +52,14 @@ def reference_end_pose(course_params):
     return reference_end_poses(course_params)[0]
 
 
-def drive(robot, course, now, period=0.05, breakaway=None):
+def drive(robot, course, now, period=0.05):
     """``course`` (rbx1_nav.motion.course.course.Course) on ``robot`` (a
     simulator's robot: ``odom``, ``truth``, ``command(v, w, t)``,
     ``fleet.step(t)``) from ``now`` (s), as the runner
     (rbx1_nav.motion.runner.runner_ros) drives it under lockstep: odometry read and
     a command sent every ``period`` s, each held for one period; at the end
     zero commanded until odometry stands still (rbx1_nav.motion.course.settle, at
-    the runner's defaults). ``breakaway``: the creep speeds the runner's
-    courses share. Returns (odometry's settled pose, the time reached)."""
-    if breakaway is not None:
-        course.breakaway = breakaway
+    the runner's defaults). Returns (odometry's settled pose, the time reached)."""
     settle = None
     while settle is None or settle.update(robot.odom, now) == WAITING:
         if settle is None:

@@ -88,9 +88,9 @@ def benchmark(values, **settings):
         course = umbmark.square_course(
             values['side'], clockwise, values['linear_speed'], values['angular_speed'],
             approach(dict(values, precise=True)), values['pause'],
-            umbmark.run_label(k, 2 * runs, clockwise))
+            umbmark.run_label(k, 2 * runs, clockwise), breakaway)
         truth_start = robot.truth
-        final, now = drive(robot, course, now, PERIOD, breakaway)
+        final, now = drive(robot, course, now, PERIOD)
         odometry.append(umbmark.relative(course.start_pose, final))
         measured.append(umbmark.relative(truth_start, robot.truth))
     return umbmark.evaluate(odometry, measured, runs, values['side'],

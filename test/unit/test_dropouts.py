@@ -82,7 +82,7 @@ def test_a_held_course_records_the_stop_and_goes_on_from_the_new_pose():
     course = Course([Drive(1.0, 0.2)])
     assert course.update(Pose2D(0.0, 0.0, 0.0), 0.0).linear == pytest.approx(0.2)
     assert course.hold(0.5) == STOP
-    assert course.in_flight.command_at(0.6) == STOP  # held, not still driving
+    assert course.context.in_flight.command_at(0.6) == STOP  # held, not still driving
     # Back: the robot is where tf says, and the drive goes on to its goal.
     assert course.update(Pose2D(0.5, 0.0, 0.0), 1.0).linear == pytest.approx(0.2)
     course.update(Pose2D(1.0, 0.0, 0.0), 1.1)

@@ -4,7 +4,7 @@ import pytest
 from genpy import Time
 
 from rbx1_nav.common.aborted import CourseAborted
-from rbx1_nav.motion.runner.loop import Hold, TfReading, Settling, StallCheck
+from rbx1_nav.motion.runner.loop import DropoutHold, NewestTransform, FinalStops, StallCheck
 from rbx1_nav.motion.course.settle import GAVE_UP, STILL, Settle
 from rbx1_nav.transform_utils import Pose2D
 
@@ -14,7 +14,7 @@ def t(seconds):
 
 
 def test_a_reading_is_fresh_only_when_newer_than_the_last():
-    robot = TfReading()
+    robot = NewestTransform()
     robot.tick(t(1.0), None)
     assert not robot.fresh and robot.pose is None and robot.fresh_at == t(1.0)
     pose = Pose2D(0.1, 0.0, 0.0)
@@ -35,9 +35,9 @@ class Log(object):
 
 def test_the_hold_holds_a_stale_transform_then_gives_up_robot_stopped():
     warn, info, stops = Log(), Log(), []
-    hold = Hold('course', 'tf odom -> base_footprint', 1.0, 2.0,
+    hold = DropoutHold('course', 'tf odom -> base_footprint', 1.0, 2.0,
                 lambda: stops.append(1), warn, info)
-    robot = TfReading()
+    robot = NewestTransform()
     robot.tick(t(0.0), (Pose2D(0.0, 0.0, 0.0), t(0.0)))
     assert not hold.held(t(0.5), robot)
     assert hold.held(t(1.5), robot)  # 1.5 s old: past ~tf_timeout
@@ -55,8 +55,8 @@ def test_the_hold_holds_a_stale_transform_then_gives_up_robot_stopped():
 
 def test_the_hold_names_a_transform_arriving_stamped_long_ago():
     warn = Log()
-    hold = Hold('course', 'tf', 1.0, 2.0, lambda: None, warn, Log())
-    robot = TfReading()
+    hold = DropoutHold('course', 'tf', 1.0, 2.0, lambda: None, warn, Log())
+    robot = NewestTransform()
     robot.tick(t(10.0), (Pose2D(0.0, 0.0, 0.0), t(8.5)))
     assert hold.held(t(10.0), robot)
     assert 'is 1.50 s old by its stamp though still arriving' in warn.lines[0]
@@ -90,8 +90,8 @@ def test_the_stall_check_feeds_seconds_from_the_first_tick_and_says_each_spell()
 
 def test_settling_waits_for_the_stops_to_be_delivered_then_for_a_still_robot():
     end = Pose2D(1.0, 0.0, 0.0)
-    settling = Settling(Settle(end, 10.0, 0.5, 3.0), message_bytes=52)
-    robot = TfReading()
+    settling = FinalStops(Settle(end, 10.0, 0.5, 3.0), message_bytes=52)
+    robot = NewestTransform()
     robot.tick(t(10.1), (end, t(10.1)))
     # Two stops sent, 200 bytes unacknowledged: a command from before
     # the end is still on its way, so no still spell begins.
@@ -109,8 +109,8 @@ def test_settling_waits_for_the_stops_to_be_delivered_then_for_a_still_robot():
 
 
 def test_settling_gives_up_on_a_robot_still_moving():
-    settling = Settling(Settle(Pose2D(0.0, 0.0, 0.0), 0.0, 0.5, 1.0), message_bytes=52)
-    robot = TfReading()
+    settling = FinalStops(Settle(Pose2D(0.0, 0.0, 0.0), 0.0, 0.5, 1.0), message_bytes=52)
+    robot = NewestTransform()
     done = False
     for k in range(1, 30):
         robot.tick(t(0.1 * k), (Pose2D(0.01 * k, 0.0, 0.0), t(0.1 * k)))

@@ -370,8 +370,7 @@ def test_precise_mode_learns_the_breakaway_speed_and_keeps_it():
     assert course.stalls.count == 0
 
     # A later course of the same runner starts at the learned speeds.
-    again = Course([Turn(-math.pi / 2, 0.5, approach=PRECISE)])
-    again.breakaway = course.breakaway
+    again = Course([Turn(-math.pi / 2, 0.5, approach=PRECISE)], course.breakaway)
     run(again, robot, limit=100.0)
     assert not [e for e in again.pop_events() if 'breakaway' in e]
     assert again.stalls.count == 0

@@ -5,14 +5,36 @@ tests check what a user would see: the legs in order, the pauses, the
 distances and turns, and where the robot ends up.
 """
 import math
+from types import SimpleNamespace
 
 import pytest
 from hypothesis import given, settings, strategies as st
 
 from ideal_robot import DT, IdealRobot, run
-from rbx1_nav.motion.course.book import CourseConfig, OutAndBack, expected_end_pose
+from rbx1_nav.common import params
+from rbx1_nav.motion.course.book import OUT_AND_BACK
 from rbx1_nav.motion.course.command import STOP, Command, pose_error
 from rbx1_nav.transform_utils import Pose2D, normalize_angle
+
+
+def _node_units(settings):
+    """``settings`` in the node's units: these tests give angular_tolerance in radians."""
+    tolerance = settings.get('angular_tolerance')
+    if isinstance(tolerance, float):
+        settings['angular_tolerance'] = math.degrees(tolerance)
+    return settings
+
+
+def out_and_back(**settings):
+    """The node's out-and-back course of ``settings`` over the book's values."""
+    return OUT_AND_BACK.course(**_node_units(settings))
+
+
+def settings_of(**settings):
+    """The out-and-back's checked values of ``settings`` (angular_tolerance in radians)."""
+    values = OUT_AND_BACK.values(**_node_units(settings))
+    values['angular_tolerance'] = math.radians(values['angular_tolerance'])
+    return SimpleNamespace(**values)
 
 def segments(rows):
     """Collapse rows into (kind, start time, end time) runs.
@@ -36,7 +58,7 @@ def segments(rows):
 # --- the book's course ----------------------------------------------------
 
 def test_default_course_is_the_books():
-    cfg = CourseConfig()
+    cfg = settings_of()
     assert (cfg.linear_speed, cfg.goal_distance, cfg.angular_speed,
             cfg.goal_angle, cfg.legs, cfg.pause) == (0.15, 1.0, 0.5, math.pi,
                                                      2, 1.0)
@@ -45,13 +67,13 @@ def test_default_course_is_the_books():
 
 
 def test_legs_run_in_order_with_pauses_between():
-    rows = run(OutAndBack(), IdealRobot())
+    rows = run(out_and_back(), IdealRobot())
     kinds = [k for k, _, _ in segments(rows)]
     assert kinds == ['drive', 'stop', 'turn', 'stop'] * 2
 
 
 def test_each_pause_lasts_about_one_second():
-    runs = segments(run(OutAndBack(), IdealRobot()))
+    runs = segments(run(out_and_back(), IdealRobot()))
     for kind, start, end in runs:
         if kind == 'stop':
             # end is the last stopped cycle; the next command follows DT later
@@ -59,7 +81,7 @@ def test_each_pause_lasts_about_one_second():
 
 
 def test_drive_covers_goal_distance_at_linear_speed():
-    rows = run(OutAndBack(), IdealRobot())
+    rows = run(out_and_back(), IdealRobot())
     drives = [cmd for _, _, cmd in rows if cmd.linear]
     assert all(cmd == Command(0.15, 0.0) for cmd in drives)
     # Stops on the first reading at or past 1 m: one cycle of travel at most.
@@ -68,7 +90,7 @@ def test_drive_covers_goal_distance_at_linear_speed():
 
 
 def test_turn_is_pi_at_angular_speed_within_tolerance():
-    m = OutAndBack()
+    m = out_and_back()
     robot = IdealRobot()
     rows = run(m, robot)
     turns = [cmd for _, _, cmd in rows if cmd.angular]
@@ -79,7 +101,7 @@ def test_turn_is_pi_at_angular_speed_within_tolerance():
 
 
 def test_ideal_robot_ends_near_start():
-    m = OutAndBack()
+    m = out_and_back()
     robot = IdealRobot()
     run(m, robot)
     dist, heading = pose_error(robot.pose, Pose2D(0.0, 0.0, 0.0))
@@ -89,7 +111,7 @@ def test_ideal_robot_ends_near_start():
 
 
 def test_commands_after_done_are_stop():
-    m = OutAndBack(CourseConfig(legs=1))
+    m = out_and_back(legs=1)
     robot = IdealRobot()
     rows = run(m, robot)
     assert rows[-1][2] == STOP
@@ -100,13 +122,13 @@ def test_commands_after_done_are_stop():
 
 
 def test_last_commands_before_done_are_a_full_pause_of_stops():
-    rows = run(OutAndBack(), IdealRobot())
+    rows = run(out_and_back(), IdealRobot())
     kind, start, end = segments(rows)[-1]
     assert kind == 'stop' and end - start + DT >= 1.0
 
 
 def test_progress_events_name_each_leg():
-    m = OutAndBack()
+    m = out_and_back()
     run(m, IdealRobot())
     events = m.pop_events()
     assert [e.split(':')[0] for e in events[:4]] == [
@@ -120,7 +142,7 @@ def test_progress_events_name_each_leg():
 
 def test_distance_is_euclidean_from_leg_start_in_any_direction():
     heading = math.radians(135.0)
-    m = OutAndBack(CourseConfig(goal_distance=0.5, legs=1))
+    m = out_and_back(goal_distance=0.5, legs=1)
     robot = IdealRobot(Pose2D(3.0, -2.0, heading))
     run(m, robot)
     # The turn back is in place, so the drive alone moved the robot 0.5 m.
@@ -128,7 +150,7 @@ def test_distance_is_euclidean_from_leg_start_in_any_direction():
 
 
 def test_negative_distance_drives_backwards():
-    m = OutAndBack(CourseConfig(goal_distance=-0.3, goal_angle=0.0, legs=1))
+    m = out_and_back(goal_distance=-0.3, goal_angle=0.0, legs=1)
     robot = IdealRobot()
     rows = run(m, robot)
     assert all(cmd.linear <= 0 for _, _, cmd in rows)
@@ -148,8 +170,7 @@ def feed_yaws(machine, yaws, t0=0.0):
 
 def turning_machine(**kwargs):
     """A machine with a zero-length drive and no pause: it turns at once."""
-    cfg = CourseConfig(goal_distance=0.0, pause=0.0, legs=1, **kwargs)
-    return OutAndBack(cfg)
+    return out_and_back(goal_distance=0.0, pause=0.0, legs=1, **kwargs)
 
 
 def test_turn_accumulates_across_the_pi_wrap():
@@ -187,8 +208,8 @@ def test_tolerance_is_mirrored_for_clockwise_turns():
 @pytest.mark.parametrize('goal_deg', [180.0, 270.0, 360.0, 450.0, -540.0])
 def test_turns_of_pi_and_more_complete(goal_deg):
     goal = math.radians(goal_deg)
-    m = OutAndBack(CourseConfig(goal_distance=0.0, goal_angle=goal, legs=1,
-                                angular_tolerance=0.0))
+    m = out_and_back(goal_distance=0.0, goal_angle=goal, legs=1,
+                 angular_tolerance=0.0)
     robot = IdealRobot(Pose2D(0.0, 0.0, math.radians(170.0)))
     run(m, robot)
     assert m.turned == pytest.approx(goal, abs=0.5 * DT + 1e-9)
@@ -197,8 +218,8 @@ def test_turns_of_pi_and_more_complete(goal_deg):
 
 def test_rotation_while_stopping_counts_towards_the_turn():
     # The book measures the turn from the last reading of the drive.
-    m = OutAndBack(CourseConfig(goal_distance=0.1, goal_angle=math.radians(90),
-                                angular_tolerance=0.0, legs=1))
+    m = out_and_back(goal_distance=0.1, goal_angle=math.radians(90),
+                 angular_tolerance=0.0, legs=1)
     t = 0.0
     m.update(Pose2D(0.0, 0.0, 0.0), t)
     m.update(Pose2D(0.1, 0.0, 0.0), t + DT)          # goal reached -> pause
@@ -212,13 +233,13 @@ def test_rotation_while_stopping_counts_towards_the_turn():
 # --- precise mode -----------------------------------------------------------
 
 def precise_run(robot, **kwargs):
-    m = OutAndBack(CourseConfig(precise=True, **kwargs))
+    m = out_and_back(precise=True, **kwargs)
     rows = run(m, robot)
     return m, rows
 
 
 def test_precise_mode_slows_down_near_each_goal_but_not_below_creep():
-    cfg = CourseConfig(precise=True)
+    cfg = settings_of(precise=True)
     m, rows = precise_run(IdealRobot())
     linear = [cmd.linear for _, _, cmd in rows if cmd.linear]
     angular = [cmd.angular for _, _, cmd in rows if cmd.angular and not cmd.linear]
@@ -244,7 +265,7 @@ def test_precise_mode_ends_at_odometry_resolution():
 
 def test_precise_mode_beats_the_book_mode_on_a_lagging_robot():
     book, precise = IdealRobot(delay=1), IdealRobot(delay=1)
-    run(OutAndBack(), book)
+    run(out_and_back(), book)
     precise_run(precise)
     book_err = pose_error(book.pose, Pose2D(0, 0, 0))
     precise_err = pose_error(precise.pose, Pose2D(0, 0, 0))
@@ -261,7 +282,7 @@ def test_precise_mode_holds_heading_against_drift():
     assert abs(robot.y) < 0.015
     # Without heading hold the same drift bends the path much further.
     book = IdealRobot(yaw_rate_bias=drift)
-    run(OutAndBack(CourseConfig(legs=1, goal_angle=0.0)), book)
+    run(out_and_back(legs=1, goal_angle=0.0), book)
     assert abs(book.y) > 5 * abs(robot.y)
 
 
@@ -275,26 +296,24 @@ def test_precise_mode_holds_heading_against_drift():
 def test_ideal_robot_precise_course_ends_where_expected(x, y, yaw, distance,
                                                         angle, legs):
     start = Pose2D(x, y, yaw)
-    cfg = CourseConfig(goal_distance=distance, goal_angle=angle, legs=legs,
-                       precise=True, pause=0.1)
+    cfg = dict(goal_distance=distance, goal_angle=angle, legs=legs, precise=True, pause=0.1)
     robot = IdealRobot(start)
-    run(OutAndBack(cfg), robot, limit=3000.0)
-    dist, heading = pose_error(robot.pose, expected_end_pose(start, cfg))
+    run(out_and_back(**cfg), robot, limit=3000.0)
+    dist, heading = pose_error(robot.pose, out_and_back(**cfg).ideal_end(start))
     assert dist < 0.002 * legs
     assert abs(heading) < 0.001 * legs
 
 
 def test_expected_end_pose_of_the_books_course_is_the_start():
     start = Pose2D(1.0, 2.0, 0.3)
-    end = expected_end_pose(start, CourseConfig())
+    end = out_and_back().ideal_end(start)
     dist, heading = pose_error(end, start)
     assert dist == pytest.approx(0.0, abs=1e-12)
     assert heading == pytest.approx(0.0, abs=1e-12)
 
 
 def test_expected_end_pose_of_a_square():
-    cfg = CourseConfig(goal_angle=math.pi / 2, legs=3)
-    end = expected_end_pose(Pose2D(0, 0, 0), cfg)
+    end = out_and_back(goal_angle=math.pi / 2, legs=3).ideal_end(Pose2D(0, 0, 0))
     assert end.x == pytest.approx(0.0, abs=1e-12)
     assert end.y == pytest.approx(1.0)
     assert end.yaw == pytest.approx(-math.pi / 2)
@@ -318,30 +337,29 @@ def test_expected_end_pose_of_a_square():
     ('legs', 10 ** 9, 'legs must be an integer >= 1 and <= 1000'),
 ])
 def test_absurd_settings_are_rejected_by_name(field, value, words):
-    cfg = CourseConfig(**{field: value})
     with pytest.raises(ValueError, match=words):
-        OutAndBack(cfg)
+        out_and_back(**{field: value})
 
 
 def test_numeric_strings_are_accepted_and_converted():
     # rosparam reads 1e-1 as a string; the checks accept it as a number.
-    cfg = OutAndBack(CourseConfig(linear_speed='1e-1', legs='3')).config
+    cfg = settings_of(linear_speed='1e-1', legs='3')
     assert cfg.linear_speed == 0.1 and cfg.legs == 3
 
 
 def test_all_problems_are_reported_together():
-    problems = CourseConfig(linear_speed=0.0, legs=0).problems()
+    problems = params.read_all(OUT_AND_BACK.params, dict(linear_speed=0.0, legs=0).get)[1]
     assert len(problems) == 2
 
 
 def test_non_finite_pose_is_rejected():
-    m = OutAndBack()
+    m = out_and_back()
     m.update(Pose2D(0.0, 0.0, 0.0), 0.0)
     with pytest.raises(ValueError, match='non-finite'):
         m.update(Pose2D(float('nan'), 0.0, 0.0), DT)
 
 
 def test_first_command_is_forward_at_linear_speed():
-    m = OutAndBack()
+    m = out_and_back()
     assert m.update(Pose2D(0.0, 0.0, 0.0), 5.0) == Command(0.15, 0.0)
-    assert m.start_pose == Pose2D(0.0, 0.0, 0.0) and m.leg == 1
+    assert m.start_pose == Pose2D(0.0, 0.0, 0.0) and m.steps[m.index].label == 'leg 1/2'

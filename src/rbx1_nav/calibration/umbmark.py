@@ -121,8 +121,9 @@ def relative(start, end):
 
 
 def square_course(side, clockwise, linear_speed, angular_speed, approach,
-                  pause=1.0, label=''):
-    """One UMBmark run: [drive ``side``, turn 90 degrees] x 4, closed loop."""
+                  pause=1.0, label='', breakaway=None):
+    """One UMBmark run: [drive ``side``, turn 90 degrees] x 4, closed loop;
+    ``breakaway``: the creep speeds every run shares (course.Course)."""
     angle = -math.pi / 2 if clockwise else math.pi / 2
     steps = []
     for k in range(1, 5):
@@ -132,7 +133,7 @@ def square_course(side, clockwise, linear_speed, angular_speed, approach,
                   Pause(pause),
                   Turn(angle, angular_speed, approach=approach, label=name),
                   Pause(pause)]
-    return Course(steps)
+    return Course(steps, breakaway)
 
 
 def check_errors(errors, runs, side, name='errors'):

@@ -16,7 +16,7 @@ import rospy
 from rbx1_nav.calibration import umbmark
 from rbx1_nav.calibration.truth_ros import GroundTruth
 from rbx1_nav.common.node_ros import start_node
-from rbx1_nav.motion.course.precise import approach
+from rbx1_nav.motion.course.precise import Breakaway, approach
 from rbx1_nav.motion.runner.runner_ros import MotionRunner, guarded
 from rbx1_nav.common.aborted import CourseAborted
 
@@ -53,6 +53,7 @@ class Benchmark(object):
     def __init__(self, values, choose_clock):
         self.values = values
         self.runner = MotionRunner(NAME, values, choose_clock)
+        self.breakaway = Breakaway()  # precise mode's creep speeds, learned over every run
         topic = values['ground_truth_topic']
         self.truth = GroundTruth(topic) if topic else None
         self.interactive = not self.truth and sys.stdin.isatty()
@@ -77,7 +78,7 @@ class Benchmark(object):
             truth_start = self.truth and self.truth.at(rospy.Time.now())
             course = umbmark.square_course(
                 v['side'], clockwise, v['linear_speed'], v['angular_speed'],
-                approach(dict(v, precise=True)), v['pause'], label)
+                approach(dict(v, precise=True)), v['pause'], label, self.breakaway)
             # Unattended, the runs follow each other as one lockstep member.
             final = self.runner.run(course, stay=not self.interactive
                                     and k + 1 < len(runs))

@@ -15,11 +15,11 @@ from rbx1_nav.motion.course.stalls import Stalls
 from rbx1_nav.motion.course.steps import Drive, Pause, TimedDrive, TimedTurn, Turn
 from rbx1_nav.transform_utils import Pose2D, normalize_angle
 
-__all__ = ['Course', 'Reading', 'legs_course', 'legs_params']
+__all__ = ['Course', 'LastReading', 'StepContext', 'legs_course', 'legs_params']
 
-Reading = namedtuple('Reading', 'stamp pose delay held')
-Reading.__doc__ = """What odometry said last: the pose last fed in, as read (before any
-prediction), its stamp (s), the command delay assumed (s) and when hold() was last called (s)."""
+LastReading = namedtuple('LastReading', 'stamp pose delay held')
+LastReading.__doc__ = """What odometry said last: the pose last fed in, as read (before any
+prediction), its stamp (s), the command delay assumed (s) and when the course last held (s)."""
 
 
 #: Where the book's course nodes differ in goal_angle's unit, as they do.
@@ -63,13 +63,41 @@ def legs_params(linear_speed, goal_distance, angular_speed, goal_angle, angle_un
     return tuple(specs)
 
 
-class Course(object):
-    """Run steps one control cycle at a time (then STOP), keeping what they share: ``yaw_total``
-    (unwrapped, since the start), ``motion_end_yaw`` (its value when the latest drive or turn
-    ended), ``in_flight``, ``stalls``, ``breakaway`` (a runner may set its own before the first
-    update, to keep creep speeds across courses)."""
+class StepContext(object):
+    """What the steps of one course read and write, in one place: ``yaw_total`` (unwrapped,
+    since the start), ``motion_end_yaw`` (its value when the latest drive or turn ended),
+    ``in_flight`` (the commands sent), ``stalls``, ``breakaway`` (precise mode's creep
+    speeds), the last reading, and ``log(text)`` for progress lines."""
 
-    def __init__(self, steps):
+    def __init__(self, breakaway, log):
+        self.yaw_total = self.motion_end_yaw = 0.0
+        self.in_flight = InFlight()
+        self.stalls = Stalls(self.in_flight)
+        self.breakaway = breakaway
+        self.log = log
+        self.stamp = None  # of the pose last fed in (s)
+        self.raw = None  # that pose, as read (before any prediction)
+        self.held = -math.inf  # the last time the course held the robot (s)
+
+    def reading(self):
+        """What odometry said last: a :class:`LastReading`."""
+        return LastReading(self.stamp, self.raw, self.in_flight.delay, self.held)
+
+    def settled(self, sent, settle, longest):
+        """True once the pose is stamped ``settle`` s after the robot ran the
+        command sent at ``sent`` (s) and after the last motion measured, or
+        ``longest`` s after it ran it (odometry that never reads zero)."""
+        ran = sent + self.in_flight.delay
+        still = max(ran, self.stalls.moved or ran) + settle
+        return self.stamp >= min(still, ran + longest) - 1e-9
+
+
+class Course(object):
+    """Run steps one control cycle at a time (then STOP); what they share is a
+    :class:`StepContext`. ``breakaway``: precise mode's creep speeds, shared by every course
+    of one runner (a new precise.Breakaway if None)."""
+
+    def __init__(self, steps, breakaway=None):
         self.steps = list(steps)
         if not self.steps:
             raise ValueError('a course needs at least one step')
@@ -77,14 +105,22 @@ class Course(object):
         self.start_pose = self.start_time = self.end_time = None
         self._now = self._last_yaw = None
         self._events = []
-        self.yaw_total = self.motion_end_yaw = 0.0
-        self.stamp = None  # of the pose last fed in (s)
-        self.raw = None  # that pose, as read (before any prediction)
-        self.held = -math.inf  # the last time hold() was called (s)
-        self.predicts = any(getattr(step, 'approach', None) for step in self.steps)
-        self.in_flight = InFlight()
-        self.stalls = Stalls(self.in_flight)
-        self.breakaway = Breakaway()
+        self.context = StepContext(breakaway or Breakaway(), self._events.append)
+        self.precise = any(getattr(step, 'approach', None) for step in self.steps)
+
+    @property
+    def yaw_total(self):
+        """The yaw (rad, unwrapped) turned since the start, after the end too."""
+        return self.context.yaw_total
+
+    @property
+    def stalls(self):
+        """The spells the robot stood still while commanded to move."""
+        return self.context.stalls
+
+    @property
+    def breakaway(self):
+        return self.context.breakaway
 
     @property
     def done(self):
@@ -111,13 +147,10 @@ class Course(object):
             return 0.0
         return (self.end_time if self.end_time is not None else self._now) - self.start_time
 
-    def log(self, text):
-        """Queue a progress line (steps report through this)."""
-        self._events.append(text)
-
     def pop_events(self):
         """Progress messages produced since the last call, oldest first."""
-        events, self._events = self._events, []
+        events = list(self._events)
+        del self._events[:]
         return events
 
     def ideal_end(self, start):
@@ -133,56 +166,50 @@ class Course(object):
         if not all(math.isfinite(v) for v in pose + (age,)):
             raise ValueError('pose has a non-finite value: %r (age %r)' % (pose, age))
         now = float(now)
-        self.stamp, self.raw = now - age, pose
-        self.in_flight.read(age)
-        if self.predicts:
-            pose = self.in_flight.predict(pose, now, age)
+        context = self.context
+        context.stamp, context.raw = now - age, pose
+        context.in_flight.read(age)
+        if self.precise:
+            pose = context.in_flight.predict(pose, now, age)
         command = self._advance(pose, now)
-        self.in_flight.record(now, command)
+        context.in_flight.record(now, command)
         return command
 
     def hold(self, now):
         """STOP at ``now`` (s) without a pose (a link dropout), recorded so
         predictions and the stall count know the robot was told to stop."""
-        self._now = self.held = float(now)
-        self.in_flight.record(self._now, STOP)
+        self._now = self.context.held = float(now)
+        self.context.in_flight.record(self._now, STOP)
         return STOP
 
-    def reading(self):
-        """What odometry said last: a :class:`Reading`."""
-        return Reading(self.stamp, self.raw, self.in_flight.delay, self.held)
-
-    def settled(self, sent, settle, longest):
-        """True once the pose is stamped ``settle`` s after the robot ran the
-        command sent at ``sent`` (s) and after the last motion measured, or
-        ``longest`` s after it ran it (odometry that never reads zero)."""
-        ran = sent + self.in_flight.delay
-        still = max(ran, self.stalls.moved or ran) + settle
-        return self.stamp >= min(still, ran + longest) - 1e-9
+    def turned_after_end(self, yaw):
+        """The robot turned ``yaw`` (rad) after the course ended, while it settled."""
+        self.context.yaw_total += yaw
 
     def _advance(self, pose, now):
         """:meth:`update` with the pose to steer by."""
+        context = self.context
         if self.start_time is None:
             self.start_time = now
             self.start_pose = pose
             self._last_yaw = pose.yaw
-            self.steps[0].begin(self, pose, now)
+            self.steps[0].begin(context, pose, now)
         self._now = now
-        self.yaw_total += normalize_angle(pose.yaw - self._last_yaw)
+        context.yaw_total += normalize_angle(pose.yaw - self._last_yaw)
         self._last_yaw = pose.yaw
         while not self.done:
             step = self.steps[self.index]
-            command = step.update(self, pose, now)
+            command = step.update(context, pose, now)
             if command is not None:
                 return command
             if step.kind != PAUSE:
-                self.motion_end_yaw = self.yaw_total
+                context.motion_end_yaw = context.yaw_total
             self.index += 1
             if self.done:
                 self.end_time = now
-                self.log('course done in %.1f s' % (now - self.start_time))
+                context.log('course done in %.1f s' % (now - self.start_time))
                 break
-            self.steps[self.index].begin(self, pose, now)
+            self.steps[self.index].begin(context, pose, now)
             if step.kind != PAUSE:
                 break  # a drive or turn ends on a cycle of stop
         return STOP

@@ -71,7 +71,7 @@ class Breakaway(object):
 
 class PreciseMode(object):
     """Precise mode of one closed-loop step: approach, check, correct, unstick. Past the goal it
-    stops and checks on a still robot (``Course.settled``); a goal missed by more than CHECK s
+    stops and checks on a still robot (``StepContext.settled``); a goal missed by more than CHECK s
     of creep is approached again, from whichever side, at most MAX_CORRECTIONS times (a late
     stop on a slow link, a robot that coasts)."""
 
@@ -87,27 +87,27 @@ class PreciseMode(object):
         self.corrections = 0
         self.mark = None  # (time sent, pose): where a stall watch began
 
-    def update(self, step, course, pose, now, remaining):
+    def update(self, step, context, pose, now, remaining):
         """The command for ``step``, ``remaining`` short of its goal; None: over."""
         if self.stopped is None:
             if remaining * self.sense > 0.0:
-                return self._approach(step, course, pose, now, remaining)
+                return self._close_in(step, context, pose, now, remaining)
             self.stopped, self.mark = now, None
-        if not course.settled(self.stopped, self.SETTLE, self.LONGEST):
+        if not context.settled(self.stopped, self.SETTLE, self.LONGEST):
             return STOP
-        if abs(remaining) <= self.creep(step, course.breakaway) * self.CHECK:
-            return step.end(course, now, self.corrections)
+        if abs(remaining) <= self.creep(step, context.breakaway) * self.CHECK:
+            return step.end(context, now, self.corrections)
         if self.corrections == self.MAX_CORRECTIONS:
-            return step.end(course, now, self.corrections, remaining)
+            return step.end(context, now, self.corrections, remaining)
         self.corrections += 1
         self.stopped, self.sense = None, math.copysign(1.0, remaining)
-        return self._approach(step, course, pose, now, remaining)
+        return self._close_in(step, context, pose, now, remaining)
 
-    def _approach(self, step, course, pose, now, remaining):
+    def _close_in(self, step, context, pose, now, remaining):
         """Move towards the goal (in ``sense``), slowing down near it."""
         speed = clamp(self.approach.gain * abs(remaining),
-                      self.creep(step, course.breakaway), step.speed)
-        speed = self._unstick(step, course, now, speed)
+                      self.creep(step, context.breakaway), step.speed)
+        speed = self._unstick(step, context, now, speed)
         return step.moving(pose, self.sense * speed)
 
     def creep(self, step, breakaway):
@@ -116,9 +116,9 @@ class PreciseMode(object):
                    else self.approach.min_angular_speed)
         return min(step.speed, max(minimum, breakaway.speeds[step.kind]))
 
-    def _unstick(self, step, course, now, speed):
+    def _unstick(self, step, context, now, speed):
         """``speed``, raised where poses read (not predicted) show the robot still (Breakaway)."""
-        read = course.reading()
+        read = context.reading()
         mark = self.mark
         if mark is None or read.held >= mark[0]:  # a new watch
             self.mark = (now, read.pose)
@@ -129,11 +129,11 @@ class PreciseMode(object):
         self.mark = (now, read.pose)
         unit = 'm/s' if step.kind == DRIVE else 'rad/s'
         if self.sense * step.advance(mark[1], read.pose) >= 0.1 * speed * elapsed:
-            course.breakaway.moved(step.kind, course.log, unit)
+            context.breakaway.moved(step.kind, context.log, unit)
             return speed
         if speed >= step.speed:
             return speed  # not a creep: a watchdog or a bumper (Stalls)
         raised = min(step.speed, Breakaway.FACTOR * speed)
-        course.breakaway.raise_to(step.kind, speed, raised)
-        course.stalls.excuse(read.stamp + Breakaway.STILL)
+        context.breakaway.raise_to(step.kind, speed, raised)
+        context.stalls.excuse(read.stamp + Breakaway.STILL)
         return raised

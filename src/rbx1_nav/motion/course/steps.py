@@ -17,7 +17,8 @@ __all__ = ['Step', 'Pause', 'Drive', 'Turn', 'TimedDrive', 'TimedTurn', 'DRIVE_A
 class Step(object):
     """One primitive of a course: :meth:`begin` runs on the cycle the previous step ended,
     :meth:`update` on later ones (the Command to send, None once over); ``progress``: what a
-    closed-loop step last measured."""
+    closed-loop step last measured. Each is given the course's ``context`` (a
+    course.StepContext): all a step reads and writes besides its own fields."""
 
     kind = None
     progress = None
@@ -26,18 +27,18 @@ class Step(object):
         self.label = label
         self.began = None
 
-    def begin(self, course, pose, now):
+    def begin(self, context, pose, now):
         self.began = now
 
-    def update(self, course, pose, now):
+    def update(self, context, pose, now):
         raise NotImplementedError
 
     def ideal_end(self, pose):
         """Where a perfect robot stands after this step, begun at ``pose``."""
         return pose
 
-    def _event(self, course, text, now, note=''):
-        course.log('%s%s in %.1f s%s' % (self.label + ': ' if self.label else '',
+    def _event(self, context, text, now, note=''):
+        context.log('%s%s in %.1f s%s' % (self.label + ': ' if self.label else '',
                                          text, now - self.began, note))
 
 
@@ -50,7 +51,7 @@ class Pause(Step):
         Step.__init__(self, label)
         self.duration = float(duration)
 
-    def update(self, course, pose, now):
+    def update(self, context, pose, now):
         return STOP if now < self.began + self.duration else None
 
 
@@ -102,23 +103,23 @@ class _OnOdometry(_Move):
         self.approach = approach
         self.precise = PreciseMode(approach) if approach is not None else None
 
-    def update(self, course, pose, now):
-        self.progress = self.measure(course, pose)
+    def update(self, context, pose, now):
+        self.progress = self.measure(context, pose)
         remaining = self.remaining(self.progress)
         if self.precise is not None:
-            return self.precise.update(self, course, pose, now, remaining)
+            return self.precise.update(self, context, pose, now, remaining)
         if remaining - self.tolerance <= 0.0:
-            return self.end(course, now)
+            return self.end(context, now)
         return self.moving(pose, self.speed)
 
-    def end(self, course, now, corrections=0, missed=None):
+    def end(self, context, now, corrections=0, missed=None):
         """Log the step's end (with its corrections); None."""
         note = ''
         if corrections:
             note = ' after %d correction%s' % (corrections, 's' * (corrections > 1))
         if missed is not None:
             note += ', still %s off' % self.axis.size(missed)
-        self._event(course, '%s %s' % (self.axis.verb, self.axis.size(self.progress)), now, note)
+        self._event(context, '%s %s' % (self.axis.verb, self.axis.size(self.progress)), now, note)
         return None
 
 
@@ -133,11 +134,11 @@ class Drive(_OnOdometry):
         self.heading_rate = float(heading_rate)  # precise mode's turn rate cap
         self.start = None
 
-    def begin(self, course, pose, now):
-        _OnOdometry.begin(self, course, pose, now)
+    def begin(self, context, pose, now):
+        _OnOdometry.begin(self, context, pose, now)
         self.start = pose
 
-    def measure(self, course, pose):
+    def measure(self, context, pose):
         """The straight-line distance from the start."""
         return math.hypot(pose.x - self.start.x, pose.y - self.start.y)
 
@@ -167,13 +168,13 @@ class Turn(_OnOdometry):
         _OnOdometry.__init__(self, angle, speed, tolerance, approach, label)
         self.anchor = None
 
-    def begin(self, course, pose, now):
-        _OnOdometry.begin(self, course, pose, now)
-        self.anchor = course.motion_end_yaw
+    def begin(self, context, pose, now):
+        _OnOdometry.begin(self, context, pose, now)
+        self.anchor = context.motion_end_yaw
 
-    def measure(self, course, pose):
+    def measure(self, context, pose):
         """The yaw turned (unwrapped) since the previous drive or turn ended."""
-        return course.yaw_total - self.anchor
+        return context.yaw_total - self.anchor
 
     def remaining(self, progress):
         return abs(self.goal) - progress * math.copysign(1.0, self.goal)
@@ -195,12 +196,12 @@ class _Timed(_Move):
         self.period = float(period)
         self.first = None
 
-    def update(self, course, pose, now):
+    def update(self, context, pose, now):
         if self.first is None:
             self.first = now
         remaining = abs(self.goal) / self.speed - (now - self.first)
         if remaining <= 1e-9:
-            self._event(course, '%s %s open loop'
+            self._event(context, '%s %s open loop'
                         % (self.axis.verb, self.axis.size(self.goal)), now)
             return None
         fraction = min(1.0, remaining / self.period)

@@ -4,14 +4,16 @@ times are ROS times (anything whose difference has ``to_sec()``), the log is pas
 A link dropout (Wi-Fi between a workstation and its robot, or a driver gone): a transform not
 updated for ``timeout`` s (~tf_timeout), or stamped that long ago. Each tick :class:`Dropouts`
 says FRESH (steer), HOLD (command zero, wait up to ``grace`` s more, ~link_grace) or LOST
-(``timeout + grace`` stale: give up), in seconds on any one clock; :class:`Hold` acts on it.
+(``timeout + grace`` stale: give up), in seconds on any one clock; :class:`DropoutHold`
+acts on it.
 """
 from collections import namedtuple
 
 from rbx1_nav.common.aborted import CourseAborted
 from rbx1_nav.motion.course.settle import WAITING, delivered
 
-__all__ = ['TfReading', 'Dropouts', 'Hold', 'StallCheck', 'Settling', 'FRESH', 'HOLD', 'LOST']
+__all__ = ['NewestTransform', 'Dropouts', 'DropoutHold', 'StallCheck', 'FinalStops', 'FRESH',
+           'HOLD', 'LOST']
 
 FRESH, HOLD, LOST = 'fresh', 'hold', 'lost'
 
@@ -58,7 +60,7 @@ class Dropouts(object):
         return '%d time%s, %.1f s in all' % (self.count, 's' * (self.count > 1), self.seconds)
 
 
-class TfReading(object):
+class NewestTransform(object):
     """The newest transform read: ``pose``, its ``stamp`` (None before the first), the tick
     ``fresh_at`` it came (or the first tick), and whether the last tick brought it (``fresh``)."""
 
@@ -81,7 +83,7 @@ class TfReading(object):
         return (now - self.stamp).to_sec()
 
 
-class Hold(object):
+class DropoutHold(object):
     """One course's ride through stale transforms (:class:`Dropouts`): the robot held, or the
     course aborted past ~link_grace; ``where`` names the transform."""
 
@@ -92,7 +94,7 @@ class Hold(object):
 
     def held(self, now, reading):
         """True while the robot is to be held (commanded zero) at ``now``,
-        by ``reading`` (a :class:`TfReading`); CourseAborted when lost."""
+        by ``reading`` (a :class:`NewestTransform`); CourseAborted when lost."""
         stamp = None if reading.stamp is None else reading.stamp.to_sec()
         tick = self.dropouts.tick(now.to_sec(), reading.fresh_at.to_sec(), stamp)
         if tick.state == LOST:
@@ -138,7 +140,7 @@ class StallCheck(object):
                           'or held (motors off, bumper)' % (self.name, spell))
 
 
-class Settling(object):
+class FinalStops(object):
     """After the last step: the robot commanded zero at every tick until ``settle`` (a
     motion.settle.Settle) has a still robot or gives up; the stops sent are counted, so a command
     still on a slow link (more bytes unacknowledged than the stops') is no still robot."""

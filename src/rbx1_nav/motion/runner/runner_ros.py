@@ -14,13 +14,12 @@ from rbx1_nav.common.ros_time import time_moved_back_text
 from rbx1_nav.common.node_ros import forget_command_line, start_node
 from rbx1_nav.common.aborted import CourseAborted
 from rbx1_nav.motion.runner.cmd_vel_ros import CmdVel
-from rbx1_nav.motion.course.precise import Breakaway
-from rbx1_nav.motion.runner.loop import Hold, Settling, TfReading
+from rbx1_nav.motion.runner.loop import DropoutHold, FinalStops, NewestTransform
 from rbx1_nav.motion.course.settle import GAVE_UP, SETTLE_PARAMS, Settle, moved_text
 from rbx1_nav.motion.course.summary import stalls_text, summary_line
 from rbx1_nav.motion.runner.tf_follow_ros import TF_TOPIC, TfFollower
 from rbx1_nav.motion.runner.tf_guard import TransformGuard, top_speeds
-from rbx1_nav.motion.runner.watchdogs_ros import StallWarnings, TfAgeWarnings, watch_master
+from rbx1_nav.motion.runner.watchdogs_ros import OdomVelocities, TfAgeWarnings, watch_master
 from rbx1_nav.transform_utils import Pose2D
 
 __all__ = ['MotionRunner', 'common_params', 'guarded', 'run_course_node']
@@ -66,7 +65,7 @@ class MotionRunner(object):
         self.require_tf = require_tf
         self.clock, self.link = choose_clock(
             settings['rate'], settings['tf_wait'], settings['tf_timeout'], self.stop,
-            rospy.resolve_name(TF_TOPIC), rospy.resolve_name(StallWarnings.TOPIC))
+            rospy.resolve_name(TF_TOPIC), rospy.resolve_name(OdomVelocities.TOPIC))
         self.cmd_vel = CmdVel(self.link)
         self.lock = threading.Lock()
         self.halted = False
@@ -74,15 +73,14 @@ class MotionRunner(object):
         # Before rospy closes its topics (Ctrl-C, rosnode kill, launch end): the stop goes out.
         rospy.on_shutdown(self.halt)
         self.tf = TfFollower(name, settings['odom_frame'], settings['base_frame'], self.link)
-        self.stalls = StallWarnings(name, self.link)
+        self.stalls = OdomVelocities(name, self.link)
         self.tf_age = TfAgeWarnings(name, settings['max_tf_age'])
         self._started = False
-        # The last course's Hold, ticks (s from its first) and last tick (ROS time). Under
+        # The last course's DropoutHold, ticks (s from its first) and last tick (ROS time). Under
         # simulated time read a simulator at last_tick, not Time.now(): /clock may lag when busy.
         self.hold = None
         self.tick_times = []
         self.last_tick = None
-        self.breakaway = Breakaway()  # precise mode's creep speeds, learned over every course
         namespace = rospy.get_namespace().strip('/')  # log lines name a fleet's robot by it
         self.robot = namespace + ': ' if namespace else ''
 
@@ -187,11 +185,10 @@ class MotionRunner(object):
     def _drive(self, course):
         """The control loop: the course's steps, then (with odometry) a wait for a still robot."""
         blind = self.tf.followed is None
-        course.breakaway = self.breakaway
-        self.hold = Hold(self.name, 'tf %s -> %s' % (self.tf.odom_frame, self.tf.followed),
+        self.hold = DropoutHold(self.name, 'tf %s -> %s' % (self.tf.odom_frame, self.tf.followed),
                          self.settings['tf_timeout'], self.settings['link_grace'],
                          self.stop, rospy.logwarn, rospy.loginfo)
-        robot = TfReading(Pose2D(0.0, 0.0, 0.0) if blind else None)
+        robot = NewestTransform(Pose2D(0.0, 0.0, 0.0) if blind else None)
         settling = None
         self.tick_times = []
         start = None
@@ -219,7 +216,7 @@ class MotionRunner(object):
                     course.stalls.end(t)
                     if blind:
                         break
-                    settling = Settling(Settle(robot.pose, t, self.settings['settle_time'],
+                    settling = FinalStops(Settle(robot.pose, t, self.settings['settle_time'],
                                                self.settings['settle_timeout']),
                                         self.cmd_vel.message_bytes())
         if not course.done or (settling is not None and settling.waiting):
@@ -233,7 +230,7 @@ class MotionRunner(object):
         """One tick of the course's steps: the command for where the robot is."""
         age = 0.0 if blind else robot.age(now)
         if robot.fresh_at == now:  # a new transform this tick
-            self.tf_age.check(age, course.predicts, self.tf.odom_frame, self.tf.followed)
+            self.tf_age.check(age, course.precise, self.tf.odom_frame, self.tf.followed)
         self.stalls.check(course, start)
         self.publish(course.update(robot.pose, self.tick_times[-1], age))
         for event in course.pop_events():
@@ -253,12 +250,12 @@ class MotionRunner(object):
                           '%.2f s after it (a slow link); robot still %.2f s after the end',
                           self.robot, self.name, settle.undelivered - settle.ended, waited)
         moved = settle.moved()
-        course.yaw_total += moved.yaw
+        course.turned_after_end(moved.yaw)
         text = moved_text(moved)
         if text:
             rospy.logwarn('%s%s: %s; the final pose below is where it stands now%s', self.robot,
                           self.name, text, ' (precise mode checked its goal before that)'
-                          if course.predicts else '')
+                          if course.precise else '')
 
     def summarize(self, course, final):
         """Log the summary line (rbx1_nav.motion.course.summary)."""

@@ -22,7 +22,7 @@ def watch_master(name):
                 on_restarted=lambda uri: rospy.logwarn(restarted_text(name, uri))).start()
 
 
-class StallWarnings(object):
+class OdomVelocities(object):
     """The velocities the robot measured (``odom``), for Course.stalls. ``link`` may keep them
     for the tick that counts them (RobotLink.arrived), so a tick reads the same ones on every run.
     An invalid message (NaN, a rotation not a unit quaternion) is named once per node that sends
@@ -77,12 +77,12 @@ class TfAgeWarnings(object):
         self.name = name
         self.max_age = max_age
 
-    def check(self, age, predicts, odom_frame, base_frame):
-        """``predicts``: the course adds the commands sent since."""
+    def check(self, age, precise, odom_frame, base_frame):
+        """``precise``: precise mode, which adds the commands sent since."""
         if age > self.max_age:
             rospy.logwarn_throttle(
                 WARN_PERIOD, '%s: tf %s -> %s is %.3f s old when used (limit ~max_tf_age %.3f s): '
                 'a slow link to the robot or a busy machine; %s' % (
                     self.name, odom_frame, base_frame, age, self.max_age,
-                    'precise mode adds the commands sent since' if predicts
+                    'precise mode adds the commands sent since' if precise
                     else 'the course steers by where the robot was'))
