@@ -12,7 +12,8 @@ import rospy
 from rosgraph_msgs.msg import Clock
 
 from rbx1_nav.sim_time.member import RESEND, Report
-from rbx1_nav.sim_time.member_ros import GRANT_TOPIC, REPORT_TOPIC
+from rbx1_nav.sim_time.member_grants_ros import GRANT_TOPIC
+from rbx1_nav.sim_time.member_reports_ros import REPORT_TOPIC
 from rbx1_nav.common.publish_ros import (from_ns, keep_own_time, publish,
                                          synchronous_publisher, to_ns)
 from rbx1_nav.common.rospy_private_ros import (connections, publisher_name, sender,

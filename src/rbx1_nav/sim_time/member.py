@@ -13,8 +13,8 @@ rospy here (test/unit/test_lockstep.py).
 import collections
 
 __all__ = ['Follower', 'MessageLedger', 'Inbox', 'Report', 'RESEND',
-           'LOST_MESSAGES', 'STALLED', 'WAIT_WARNING', 'HANDLE', 'REPEAT', 'BACK', 'STALE', 'NO_TICK', 'ALIGN',
-           'aligned', 'Reminder']
+           'LOST_MESSAGES', 'STALLED', 'WAIT_WARNING', 'POLL', 'HANDLE', 'REPEAT', 'BACK',
+           'STALE', 'NO_TICK', 'ALIGN', 'aligned', 'Reminder']
 
 #: Wall seconds a member waits for a grant, or the owner for a report,
 #: before sending its last message again.
@@ -34,6 +34,9 @@ STALLED = 10.0
 #: Wall seconds between the warnings of a member that keeps waiting for
 #: counted messages from a connected sender.
 WAIT_WARNING = 5.0
+#: Wall seconds between a waiting member's checks that what it waits for
+#: is still connected.
+POLL = 0.1
 #: A report's ``next`` when the member has no tick of its own (a filter
 #: waiting for its first data): it is granted the next step, whatever it is.
 NO_TICK = 0
