@@ -15,7 +15,7 @@ Publishes:  cmd_vel (geometry_msgs/Twist), relative.
 Subscribes: odom (nav_msgs/Odometry), only its velocity: the summary counts the
             spells the robot stood still while commanded to move.
 Parameters: the book's values by default; ~rate and every one after it
-are the runner's (rbx1_nav.motion.runner.runner_ros), shared by every motion node.
+are the runner's (rbx1_nav.motion.runner.runner_params), shared by every motion node.
 Exit status: 0 after a completed course, 1 otherwise; the robot is always
 sent a stop.
 """
@@ -27,7 +27,8 @@ signal.signal(signal.SIGINT, signal.SIG_DFL)  # a signal during the imports: gon
 from rbx1_nav.common.node_ros import exit_node  # noqa: E402
 from rbx1_nav.course_clock_ros import course_clock  # noqa: E402
 from rbx1_nav.motion.course.book import TIMED_OUT_AND_BACK  # noqa: E402
-from rbx1_nav.motion.runner.runner_ros import common_params, run_course_node  # noqa: E402
+from rbx1_nav.motion.runner.runner_params import common_params  # noqa: E402
+from rbx1_nav.motion.runner.runner_ros import run_course_node  # noqa: E402
 
 NAME = 'timed_out_and_back'
 PARAMS = TIMED_OUT_AND_BACK.params + common_params(rate=TIMED_OUT_AND_BACK.rate)

@@ -46,7 +46,7 @@ from rbx1_nav.course_clock_ros import course_clock  # noqa: E402
 from rbx1_nav.common.params import param  # noqa: E402
 from rbx1_nav.motion.course.command import MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED  # noqa: E402
 from rbx1_nav.motion.course.precise import PRECISE_PARAMS  # noqa: E402
-from rbx1_nav.motion.runner.runner_ros import common_params  # noqa: E402
+from rbx1_nav.motion.runner.runner_params import common_params  # noqa: E402
 
 PARAMS = (
     param('runs', 5, params.integer, '', 'squares in each direction',

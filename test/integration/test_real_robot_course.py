@@ -83,7 +83,7 @@ def test_a_course_on_a_real_robot_loads_no_lockstep_module(tmp_path):
         log.close()
     package = os.path.join('src', 'rbx1_nav') + os.sep
     names = sorted(path.rsplit(package, 1)[-1] for path, _ in modules)
-    assert os.path.join('motion', 'runner_ros.py') in names  # the course's own
+    assert os.path.join('motion', 'runner', 'runner_ros.py') in names  # the course's own
     # Lockstep's messages are generated modules in the devel space (msg/_Lockstep*.py).
     sim_time = [n for n in names if n.startswith('sim_time' + os.sep)
                 or 'Lockstep' in n or 'member' in n]

@@ -13,7 +13,8 @@ from hypothesis import given, settings, strategies as st
 from ideal_robot import DT, IdealRobot, run
 from rbx1_nav.common import params
 from rbx1_nav.motion.course.command import STOP, Command, pose_error
-from rbx1_nav.motion.course.course import Course, legs_course, legs_params
+from rbx1_nav.motion.course.course import Course, legs_course
+from rbx1_nav.motion.course.legs_params import legs_params
 from rbx1_nav.motion.course.summary import control_rates
 from rbx1_nav.motion.course.in_flight import InFlight
 from rbx1_nav.motion.course.precise import PRECISE_PARAMS, Approach, approach

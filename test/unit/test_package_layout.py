@@ -302,7 +302,7 @@ def test_a_course_nodes_help_says_truly_which_parameters_are_the_runners():
     import sys
     sys.path.insert(0, os.path.join(ROOT, 'test', 'helpers'))
     import parameters_page
-    from rbx1_nav.motion.runner.runner_ros import common_params
+    from rbx1_nav.motion.runner.runner_params import common_params
     runner = [spec.name for spec in common_params(rate=10)]
     assert runner[0] == 'rate'
     load = parameters_page.load().load

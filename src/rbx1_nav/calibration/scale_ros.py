@@ -25,7 +25,8 @@ from rbx1_nav.calibration import scale
 from rbx1_nav.common import params
 from rbx1_nav.common.params import param
 from rbx1_nav.common.node_ros import start_node
-from rbx1_nav.motion.runner.runner_ros import MotionRunner, common_params, guarded
+from rbx1_nav.motion.runner.runner_params import common_params
+from rbx1_nav.motion.runner.runner_ros import MotionRunner, guarded
 from rbx1_nav.calibration.truth_ros import TRUTH_PARAM, GroundTruth
 
 NODE_PARAMS = (

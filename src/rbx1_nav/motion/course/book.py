@@ -8,7 +8,8 @@ import math
 from collections import namedtuple
 
 from rbx1_nav.common import params
-from rbx1_nav.motion.course.course import Course, legs_course, legs_params
+from rbx1_nav.motion.course.course import Course, legs_course
+from rbx1_nav.motion.course.legs_params import legs_params
 from rbx1_nav.motion.course.precise import PRECISE_PARAMS, approach
 
 __all__ = ['BookCourse', 'OUT_AND_BACK', 'NAV_SQUARE', 'TIMED_OUT_AND_BACK']

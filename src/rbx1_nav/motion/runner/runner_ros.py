@@ -8,54 +8,29 @@ import threading
 import rospy
 from geometry_msgs.msg import Twist
 
-from rbx1_nav.common import params
-from rbx1_nav.common.params import param
 from rbx1_nav.common.ros_time import time_moved_back_text
 from rbx1_nav.common.node_ros import forget_command_line, start_node
 from rbx1_nav.common.aborted import CourseAborted
 from rbx1_nav.motion.runner.cmd_vel_ros import CmdVel
+from rbx1_nav.motion.runner.other_drivers_ros import OtherDrivers
 from rbx1_nav.motion.runner.loop import DropoutHold, FinalStops, NewestTransform
-from rbx1_nav.motion.course.settle import GAVE_UP, SETTLE_PARAMS, Settle, moved_text
+from rbx1_nav.motion.course.settle import GAVE_UP, Settle, moved_text
 from rbx1_nav.motion.course.summary import stalls_text, summary_line
 from rbx1_nav.motion.runner.tf_follow_ros import TF_TOPIC, TfFollower
 from rbx1_nav.motion.runner.tf_guard import TransformGuard, top_speeds
 from rbx1_nav.motion.runner.watchdogs_ros import OdomVelocities, TfAgeWarnings, watch_master
 from rbx1_nav.transform_utils import Pose2D
 
-__all__ = ['MotionRunner', 'common_params', 'guarded', 'run_course_node']
+__all__ = ['MotionRunner', 'guarded', 'run_course_node']
 
 #: ROS s a course listens before its first command when another node publishes on its cmd_vel:
 #: a course commands every tick, a teleop node at 10 Hz; a course slower than 2 Hz may be missed.
 LISTEN = 1.0
 
 
-def common_params(rate):
-    """The runner's own parameters; ``rate`` (Hz) is the node's default."""
-    return (
-        param('rate', float(rate), params.number, 'Hz', 'control rate',
-              minimum=1.0, maximum=1000.0),
-        param('odom_frame', 'odom', params.frame, '', 'odometry frame'),
-        param('base_frame', '', params.frame, '',
-              "robot frame; '' tries base_footprint, then base_link", allow_empty=True),
-        param('tf_wait', 5.0, params.number, 's',
-              'wait this long for /clock, the first transform and a cmd_vel subscriber',
-              **params.POSITIVE),
-        param('tf_timeout', 1.0, params.number, 's',
-              'stop the robot when the transform is older than this', **params.POSITIVE),
-        param('link_grace', 5.0, params.number, 's',
-              'then wait this much longer for it (a Wi-Fi dropout) before giving up',
-              minimum=0.0, maximum=600.0),
-        param('max_tf_age', 0.1, params.number, 's',
-              'warn when the transform steered by is older than this (a slow link to the robot)',
-              **params.POSITIVE),
-        param('start_delay', 0.0, params.number, 's',
-              'pause before moving (e.g. for a bag recorder)', minimum=0.0),
-    ) + SETTLE_PARAMS
-
-
 class MotionRunner(object):
     """The control loop and the stop on every exit; ``settings``: the values of
-    :func:`common_params`; ``choose_clock``: the course's (clock, link) of them
+    :func:`~rbx1_nav.motion.runner.runner_params.common_params`; ``choose_clock``: the course's (clock, link) of them
     (rbx1_nav.course_clock_ros.course_clock). With ``require_tf`` false (open-loop courses) a robot without the
     transform runs the course blind: no staleness check and no final pose."""
 
@@ -67,6 +42,7 @@ class MotionRunner(object):
             settings['rate'], settings['tf_wait'], settings['tf_timeout'], self.stop,
             rospy.resolve_name(TF_TOPIC), rospy.resolve_name(OdomVelocities.TOPIC))
         self.cmd_vel = CmdVel(self.link)
+        self.others = OtherDrivers(self.cmd_vel.pub.resolved_name)
         self.lock = threading.Lock()
         self.halted = False
         self.yielded = False  # another node drives the robot: send nothing, not even a stop
@@ -123,7 +99,7 @@ class MotionRunner(object):
         if not self._started:
             self.clock.start(self.name)
             watch_master(self.name)
-            self.cmd_vel.watch_publishers(self.name)
+            self.others.watch(self.name)
             self._started = True
 
     def run(self, course, stay=False):
@@ -137,7 +113,7 @@ class MotionRunner(object):
                     self.settings['tf_wait'], self.require_tf)
             self.cmd_vel.wait_for_listener(self.settings['tf_wait'])
             self._claim()
-            self.cmd_vel.others.arm()  # till the end, another node commanding motion is a fight
+            self.others.arm()  # till the end, another node commanding motion is a fight
             if self.tf.followed is not None:
                 self.tf.guard = TransformGuard(
                     self.tf.odom_frame, self.tf.followed, *top_speeds(course))
@@ -149,7 +125,7 @@ class MotionRunner(object):
             self.leave()
             raise
         finally:
-            self.cmd_vel.others.disarm()
+            self.others.disarm()
             self.tf.guard = None
         if not stay:
             self.leave()
@@ -159,10 +135,10 @@ class MotionRunner(object):
         """Leave the robot to a node already driving it. When another node publishes on cmd_vel,
         listen LISTEN s before the first command; if it drove meanwhile (a course's commands,
         stops too, or anyone's motion), CourseAborted, and nothing is sent, not even a stop."""
-        if not self.cmd_vel.hear_others(self.settings['tf_wait']):
+        if not self.others.hear(self.settings['tf_wait']):
             return
         self.pause(LISTEN)
-        refused = self.cmd_vel.refusal()
+        refused = self.others.refusal()
         if refused:
             self.yielded = True
             raise CourseAborted(refused)
@@ -177,7 +153,7 @@ class MotionRunner(object):
 
     def _check_robot_is_ours(self):
         """CourseAborted, robot stopped, if another node drives it or its tf is not one robot's."""
-        problem = self.cmd_vel.other_driver() or (self.tf.guard and self.tf.guard.problem)
+        problem = self.others.other_driver() or (self.tf.guard and self.tf.guard.problem)
         if problem:
             self.stop()
             raise CourseAborted(problem)
