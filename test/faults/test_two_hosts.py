@@ -371,7 +371,7 @@ def test_commands_cut_twice_the_summary_counts_both_watchdog_stops(hosts):
 
 
 #: Precise courses at once at 20 % loss: each is held to the same checks,
-#: so a few do; bench/loss.py runs ten (RBX1_LOSS_COURSES=10) to measure
+#: so a few do; bench/accuracy/loss.py runs ten (RBX1_LOSS_COURSES=10) to measure
 #: how many end within 5 mm / 0.5 deg.
 COURSES_AT_LOSS = int(os.environ.get('RBX1_LOSS_COURSES', '4'))
 #: 20 % loss on TCP stalls a stream for several seconds now and then (its
@@ -450,7 +450,7 @@ def test_twenty_percent_loss_precise_courses_ride_it_out(hosts):
     that used up its corrections on lost commands ends "still ... off", up
     to 70 deg on a turn; the watchdog stopping a creeping robot can pass for
     stiction and widen the check), so that count is printed, not asserted:
-    bench/loss.py runs this case with ten courses many times and gives its
+    bench/accuracy/loss.py runs this case with ten courses many times and gives its
     distribution. So is the longest the robot kept moving while its course
     held it: a command sent before the dropout, which TCP delivers late,
     runs until the robot's watchdog stops it or the next arrives (seen:

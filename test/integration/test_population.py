@@ -2,7 +2,7 @@
 
 The first physics robot that ``make bench BENCH_ARGS="--sections
 population"`` draws (seed 1), through docs/calibration.md's procedure as the
-bench runs it (bench/population.py, on a master of its own, lockstep at
+bench runs it (bench/population/population.py, on a master of its own, lockstep at
 full speed, ground truth as the tape measure): ``calibrate_linear.py``
 and ``calibrate_angular.py``, their factors set on the driver,
 ``umbmark.py`` (two runs each way here, five in the bench, to keep it
@@ -34,7 +34,7 @@ import sys
 import pytest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, '..', '..', 'bench'))
+sys.path.insert(0, os.path.join(HERE, '..', '..', 'bench', 'population'))
 import population  # noqa: E402
 
 pytestmark = pytest.mark.skipif(

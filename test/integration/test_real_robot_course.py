@@ -22,7 +22,7 @@ import pytest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 HELPERS = os.path.join(HERE, '..', 'helpers')
-WRAPPER = os.path.join(HERE, '..', '..', 'bench', 'modules_at_exit.py')
+WRAPPER = os.path.join(HERE, '..', '..', 'bench', 'speed', 'modules_at_exit.py')
 sys.path.insert(0, HELPERS)
 from master import HANG_GUARD, wait_for_master  # noqa: E402
 from ports import free_port  # noqa: E402

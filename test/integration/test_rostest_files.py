@@ -12,7 +12,7 @@ nodes follow the wall clock, run one after another (one xdist group) at
 normal priority, so the machine's load cannot make them fall behind. A
 file whose test starts RViz says RVIZ and runs in the xdist group of
 test/integration/test_rviz_views.py: one RViz at a time.
-bench/determinism.py shows which verdicts and figures load changes.
+bench/suite/determinism.py shows which verdicts and figures load changes.
 """
 import glob
 import os

@@ -15,7 +15,7 @@ does when no message is late. The true end pose must match it within
 end within ~position_tolerance (m) and ~heading_tolerance (deg) of the
 start, the robot stopped; each of ~expect_in_output (strings) must be in
 the course's log. The same graph beside real CPU burners is
-bench/determinism.py's (its loaded run) and bench/soak.py's: burners in
+bench/suite/determinism.py's (its loaded run) and bench/accuracy/soak.py's: burners in
 the suite would cost as much CPU as the graph they slow, for no verdict
 stalls do not give.
 """

@@ -12,7 +12,7 @@ into the bag; ~gps_frame_rotation) gets the bag's /encoder, /imu_data and
 /gps from that time on, from its own player; its pose at the last stamp
 it published before the end time must agree within 1 cm and 0.2 deg with
 the same filter's replaying the whole bag without ROS
-(bench/pose_ekf_husky.py, as test/unit/test_pose_ekf_husky.py does for
+(bench/accuracy/pose_ekf_husky.py, as test/unit/test_pose_ekf_husky.py does for
 starts 0, 1.5 and 3 s into it).
 
 The bag plays in lockstep (lockstep_play.py, one player per pose_ekf,
@@ -40,7 +40,7 @@ from rbx1_nav.transform_utils import quat_to_angle
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
 from rosrun import rosrun  # noqa: E402
 
-sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', '..', 'bench'))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', '..', 'bench', 'accuracy'))
 import pose_ekf_husky as husky  # noqa: E402
 
 TIME_END = 1368022016.0

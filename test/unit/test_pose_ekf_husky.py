@@ -1,6 +1,6 @@
 """pose_ekf's GPS modes on robot_pose_ekf's own Husky bag
 (test/data/gps_data.bag), replayed without ROS running by
-bench/pose_ekf_husky.py: robot_pose_ekf's test passes offline, the answer
+bench/accuracy/pose_ekf_husky.py: robot_pose_ekf's test passes offline, the answer
 does not depend on when the node's timer fires or when it started, and
 gps_frame_rotation follows the fixes more closely than robot_pose_ekf's
 mode. Needs rosbag (skipped without it, e.g. under Python 3.8 alone)."""
@@ -13,7 +13,7 @@ import pytest
 
 rosbag = pytest.importorskip('rosbag')
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', '..',
-                                'bench'))
+                                'bench', 'accuracy'))
 import pose_ekf_husky as husky  # noqa: E402
 from rbx1_nav.estimation.fusion import GyroOdomFusion  # noqa: E402
 from rbx1_nav.transform_utils import normalize_angle  # noqa: E402

@@ -21,8 +21,8 @@ until every robot's odom_out_and_back.py has ended, and reports:
   single robot's rostest limits, 20 mm and 1.5 deg, by default).
 
 Usage (workspace sourced, /usr/bin first on PATH):
-    python3 bench/fleet_scale.py --n 10 20 40 60 80 --modes fleet separate
-    python3 bench/fleet_scale.py --n 40 --json      # results as JSON
+    python3 bench/speed/fleet_scale.py --n 10 20 40 60 80 --modes fleet separate
+    python3 bench/speed/fleet_scale.py --n 40 --json      # results as JSON
 Each run prints a progress line on stderr; the table (or JSON) goes to
 stdout. ``run_fleet(n, mode)`` and ``run_all(...)`` return the same results
 as dicts, for other scripts. Results depend on the machine and its load:
@@ -33,15 +33,15 @@ import json
 import math
 import os
 import re
-import signal
-import socket
 import statistics
 import subprocess
 import sys
 import threading
 import time
 
-import yaml
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from common import cpu_seconds, descendants, end_processes, fmt, log  # noqa: E402
+from graph import Master  # noqa: E402
 
 MODES = ('fleet', 'separate')
 POSITION_LIMIT = 0.020  # m: the single robot's book-mode rostest limits
@@ -56,64 +56,6 @@ RATE_LINE = re.compile(r'final pose relative to start in (?P<robot>\S+)/odom: .*
 COURSE_EXIT = re.compile(
     r'\[(?P<robot>[^\s/\]]+)/odom_out_and_back-\d+\] (?P<how>process has '
     r'finished cleanly|process has died)')
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(('localhost', 0))
-        return s.getsockname()[1]
-
-
-def stat_cpu(path):
-    """User + system CPU seconds of a process or thread from its /proc stat
-    file ``path``; None if gone."""
-    try:
-        with open(path) as f:
-            fields = f.read().rsplit(')', 1)[1].split()
-    except OSError:
-        return None
-    return (int(fields[11]) + int(fields[12])) / os.sysconf('SC_CLK_TCK')
-
-
-def cpu_seconds(pid):
-    """User + system CPU seconds of a process, from /proc; None if gone."""
-    return stat_cpu('/proc/%d/stat' % pid)
-
-
-def ground_truth(env, topic='ground_truth'):
-    """(x, y, yaw) of the simulator's next message on ``topic``, read by
-    rostopic in ``env``."""
-    out = subprocess.run(['rostopic', 'echo', '-n', '1', topic + '/pose/pose'], env=env,
-                         stdout=subprocess.PIPE, universal_newlines=True, timeout=30).stdout
-    pose = yaml.safe_load(out.split('---')[0])
-    q = pose['orientation']
-    yaw = math.atan2(2.0 * (q['w'] * q['z'] + q['x'] * q['y']),
-                     1.0 - 2.0 * (q['y'] ** 2 + q['z'] ** 2))
-    return pose['position']['x'], pose['position']['y'], yaw
-
-
-def descendants(pid):
-    """{pid: command line} of every process below ``pid``."""
-    children = {}
-    for entry in os.listdir('/proc'):
-        if not entry.isdigit():
-            continue
-        try:
-            with open('/proc/%s/stat' % entry) as f:
-                ppid = int(f.read().rsplit(')', 1)[1].split()[1])
-            children.setdefault(ppid, []).append(int(entry))
-        except (OSError, ValueError, IndexError):
-            continue
-    found, todo = {}, [pid]
-    while todo:
-        for child in children.get(todo.pop(), []):
-            try:
-                with open('/proc/%d/cmdline' % child, 'rb') as f:
-                    found[child] = f.read().replace(b'\0', b' ').decode(errors='replace')
-            except OSError:
-                continue
-            todo.append(child)
-    return found
 
 
 def role(cmdline):
@@ -183,34 +125,8 @@ def true_errors(robots, rospy, Odometry, wall_limit=10.0):
     return errors
 
 
-class Bench(object):
-    """One roscore (a free port) and a rospy node in this process, for all
-    runs: rospy joins one master per process."""
-
-    def __init__(self):
-        self.port = free_port()
-        self.env = dict(os.environ, ROS_MASTER_URI='http://localhost:%d' % self.port)
-        os.environ.update(self.env)
-        self.core = subprocess.Popen(['roscore', '-p', str(self.port)], env=self.env,
-                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                                     start_new_session=True)
-        import rospy
-        from nav_msgs.msg import Odometry
-        self.rospy, self.Odometry = rospy, Odometry
-        deadline = time.monotonic() + 30
-        while True:
-            try:
-                rospy.get_master().getPid()
-                break
-            except (ConnectionError, OSError):
-                if time.monotonic() > deadline:
-                    raise RuntimeError('roscore on port %d did not start' % self.port)
-                time.sleep(0.2)
-        rospy.init_node('bench_fleet_scale', disable_signals=True)
-
-    def close(self):
-        self.rospy.signal_shutdown('bench done')
-        stop(self.core)
+class Bench(Master):
+    """A master of this process's own for every run of the fleet."""
 
     def run_fleet(self, n, mode='fleet', sim_speed=0.0, precise=False,
                   position_limit=POSITION_LIMIT, heading_limit=HEADING_LIMIT,
@@ -267,7 +183,7 @@ class Bench(object):
         truth = true_errors([r for r in robots if r in done], rospy, self.Odometry)
         cpu = meter.stop()
         load_after = os.getloadavg()[0]
-        stop(launch)
+        end_processes([launch], 30)
         reader.join(5.0)
         failed = sorted(set(robots) - set(done), key=lambda r: int(r[5:]))
         worst = lambda values, i: max((v[i] for v in values), default=float('nan'))  # noqa: E731
@@ -294,17 +210,6 @@ class Bench(object):
         if failed:
             result['failure_lines'] = [l for l in lines if 'ERROR' in l or 'died' in l][:10]
         return result
-
-
-def stop(proc):
-    """SIGINT to the process group (roslaunch passes it on), then SIGKILL."""
-    if proc.poll() is None:
-        os.killpg(proc.pid, signal.SIGINT)
-        try:
-            proc.wait(30)
-        except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
-            proc.wait()
 
 
 def run_all(sizes, modes=MODES, sim_speed=0.0, precise=False,
@@ -354,6 +259,41 @@ def table(results):
                         r['cpu_courses'], r['cpu_total'], r['wall'], r['load_before'],
                         r['load_after'], 'yes' if r['holds'] else 'no'))
     return '\n'.join(rows)
+
+
+# -- make bench's scale section ------------------------------------------
+
+#: The target shown beside each row (the GUIDE's).
+TARGET = 'every course within 20 mm, 1.5 deg'
+
+
+def section(counts):
+    """make bench's scale section: :func:`run_all` over ``counts`` at 1x
+    (no simulated time), one fake_fleet and separate fake_turtlebot
+    processes."""
+    rows = run_all(counts, log=lambda r: log(
+        'scale %d robots (%s): %d/%d completed, worst %.1f mm, %.2f deg, %.0f CPU s'
+        % (r['n'], r['mode'], r['completed'], r['n'], r['true_mm'], r['true_deg'],
+           r['cpu_total'])))
+    for row in rows:
+        row['target'] = TARGET
+    return rows
+
+
+def section_markdown(rows):
+    """The scale section's table, as lines."""
+    out = ['## Scale (1x, the default course on every robot)', '',
+           '| robots | simulators | completed | worst true error | control rate: '
+           'median / slowest second | total CPU s | holds | target |',
+           '|---|---|---|---|---|---|---|---|']
+    for r in rows:
+        out.append('| %d | %s | %d/%d | %s mm, %s deg | %s Hz / %s ticks | %s | %s | %s |' % (
+            r['n'], 'one fake_fleet' if r['mode'] == 'fleet' else 'separate',
+            r['completed'], r['n'], fmt(r['true_mm']), fmt(r['true_deg'], '%.2f'),
+            fmt(r.get('rate_median')), fmt(r.get('rate_min'), '%.0f'),
+            fmt(r['cpu_total'], '%.0f'), 'yes' if r['holds'] else 'no', r['target']))
+    out.append('')
+    return out
 
 
 def main(argv=None):

@@ -8,7 +8,7 @@ Prints each mode's last pose before robot_pose_ekf's test time beside what
 that test expects, and plots the GPS fixes, the odometry and both
 estimates in the GPS frame (docs/pose_ekf_husky_gps.png).
 
-Usage: python3 bench/pose_ekf_husky.py [-o PNG] [BAG]
+Usage: python3 bench/accuracy/pose_ekf_husky.py [-o PNG] [BAG]
 """
 import argparse
 import math
@@ -17,14 +17,14 @@ import sys
 
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(os.path.dirname(HERE), 'src'))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, 'src'))
 from rbx1_nav.estimation.input_check import RejectedInput  # noqa: E402
 from rbx1_nav.estimation.ekf import pose_covariance_3x3, position_covariance_2x2  # noqa: E402
 from rbx1_nav.estimation.fusion import GyroOdomFusion  # noqa: E402
 from rbx1_nav.transform_utils import quat_to_angle  # noqa: E402
 
-BAG = os.path.join(os.path.dirname(HERE), 'test', 'data', 'gps_data.bag')
+BAG = os.path.join(ROOT, 'test', 'data', 'gps_data.bag')
 #: robot_pose_ekf's test (test_robot_pose_ekf_gps.cpp): the last estimate
 #: stamped before END is expected at EXPECTED (x, y m, yaw deg).
 END = 1368022016.0
@@ -130,7 +130,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     parser.add_argument('bag', nargs='?', default=BAG)
     parser.add_argument('-o', '--output', default=os.path.join(
-        os.path.dirname(HERE), 'docs', 'pose_ekf_husky_gps.png'))
+        ROOT, 'docs', 'pose_ekf_husky_gps.png'))
     args = parser.parse_args()
     messages = read_bag(args.bag)
     results = {}

@@ -35,8 +35,8 @@ is shown with each run. ``--burners 0`` runs each test twice as it is:
 what differs then is scatter from run to run, whatever the load. Not a test: run it on demand (source the
 workspace first, as `make bench` does), e.g.
 
-    python3 bench/determinism.py --tests courses.test umbmark.test
-    python3 bench/determinism.py            # every file: slow
+    python3 bench/suite/determinism.py --tests courses.test umbmark.test
+    python3 bench/suite/determinism.py      # every file: slow
 
 Before and after a change, on one machine: ``--save before.json`` at the
 old commit (each test once), then ``--against before.json`` at the new one.
@@ -56,9 +56,9 @@ import tempfile
 import time
 import xml.etree.ElementTree as ET
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
-from suite_cpu import LIMIT, ROOT, rostest_env, rostest_files, stop  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from common import ROOT, end_processes  # noqa: E402
+from suite.suite_cpu import LIMIT, rostest_env, rostest_files  # noqa: E402
 
 NUMBER = re.compile(r'(?<![\w./])[-+]?(?:nan|inf|(?:\d+(?:\.\d+)?|\.\d+)(?:[eE][-+]?\d+)?)'
                     r'(?!\w|\.\d)')
@@ -153,10 +153,10 @@ def run_rostest(test):
             try:
                 code = proc.wait(timeout=LIMIT)
             except subprocess.TimeoutExpired:
-                stop(proc)
+                end_processes([proc], 30)
                 code = None
             except BaseException:
-                stop(proc)
+                end_processes([proc], 30)
                 raise
             log.seek(0)
             tail = log.read()[-3000:]
@@ -208,7 +208,7 @@ def main():
     say('# Figures against %s' % args.against if args.against else
         '# Figures idle and beside %d CPU burners' % args.burners)
     say()
-    say('%s, `python3 bench/determinism.py%s`, %d cores, load average %.2f at the start.'
+    say('%s, `python3 bench/suite/determinism.py%s`, %d cores, load average %.2f at the start.'
         % (time.strftime('%Y-%m-%d %H:%M'), ''.join(' ' + a for a in sys.argv[1:]),
            os.cpu_count(), os.getloadavg()[0]))
     for test in tests:

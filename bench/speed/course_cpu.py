@@ -7,10 +7,11 @@ free port, ``rosrun rbx1_nav fake_turtlebot.py`` (free-running at 1x: no
 
 - ours: the script ``rosrun rbx1_nav odom_out_and_back.py`` runs, default
   parameters, or
-- the book's: bench/book/odom_out_and_back.py, ROS By Example's listing,
-  its ``import tf`` bench/book/tf.py (tf2_ros underneath, as in Noetic).
+- the book's: bench/speed/book/odom_out_and_back.py, ROS By Example's
+  listing, its ``import tf`` bench/speed/book/tf.py (tf2_ros underneath,
+  as in Noetic).
 
-Both run under bench/modules_at_exit.py (runpy, then the rbx1_nav modules
+Both run under bench/speed/modules_at_exit.py (runpy, then the rbx1_nav modules
 loaded are written at exit) and as the same ``/usr/bin/python3`` process,
 without rosrun's lookup (its CPU is measured once and shown apart). A
 course's CPU is its process's whole life (os.wait4: user + system, every
@@ -31,11 +32,10 @@ import threading
 import time
 import xmlrpc.client
 
-
 HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(os.path.realpath(HERE))
-sys.path.insert(0, HERE)
-from fleet_scale import cpu_seconds, descendants, free_port, ground_truth  # noqa: E402
+sys.path.insert(0, os.path.dirname(HERE))
+from common import (ROOT, cpu_by_name, descendants, end_processes, free_port,  # noqa: E402
+                    ground_truth, log, node_name, wait_for_master)
 
 BOOK = os.path.join(HERE, 'book', 'odom_out_and_back.py')
 WRAPPER = os.path.join(HERE, 'modules_at_exit.py')
@@ -43,11 +43,6 @@ PYTHON = '/usr/bin/python3'
 #: Wall seconds the robot has after its /tf appears before a course starts
 #: (the book's script waits 2 s for tf itself; ours waits for it).
 SETTLE = 1.0
-
-
-def log(text):
-    sys.stderr.write(text + '\n')
-    sys.stderr.flush()
 
 
 def wait4(proc):
@@ -72,20 +67,6 @@ def our_script(env):
     return out, cpu
 
 
-def named(pid, cmdline):
-    argv = cmdline.split()
-    names = [a.split(':=', 1)[1] for a in argv if a.startswith('__name:=')]
-    if names:
-        return names[0]
-    if any(a.endswith('rosmaster') for a in argv):
-        return 'rosmaster'
-    if any(a.endswith('roscore') for a in argv[:3]):
-        return 'roscore (roslaunch)'
-    if any(a.endswith('fake_turtlebot.py') for a in argv[:3]):
-        return 'fake_turtlebot'
-    return None
-
-
 class Robot(object):
     """A fresh master and fake robot, as a user starts them."""
 
@@ -96,7 +77,7 @@ class Robot(object):
         self.env.pop('ROS_NAMESPACE', None)
         self.groups = []
         self.core = self._start(['roscore', '-p', str(port)])
-        self._wait(lambda master: master.getPid('/bench')[0] == 1, 'the master')
+        wait_for_master(self.uri, self.core)
         self.robot = self._start(['rosrun', 'rbx1_nav', 'fake_turtlebot.py'])
 
         def tf_up(master):
@@ -129,12 +110,7 @@ class Robot(object):
         family = descendants(self.core.pid)
         family[self.core.pid] = 'roscore'
         family[self.robot.pid] = 'fake_turtlebot.py'
-        totals = {}
-        for pid, cmdline in family.items():
-            name = named(pid, cmdline)
-            if name is not None:
-                totals[name] = totals.get(name, 0.0) + (cpu_seconds(pid) or 0.0)
-        return totals
+        return cpu_by_name({pid: node_name(cmdline) for pid, cmdline in family.items()})
 
     def truth(self):
         """(x, y, yaw) of the robot's next ground_truth message."""
@@ -142,7 +118,7 @@ class Robot(object):
 
     def course_env(self, which):
         """The environment a course runs in: the robot's master; for the
-        book's script, bench/book/ on PYTHONPATH too (its "import tf")."""
+        book's script, bench/speed/book/ on PYTHONPATH too (its "import tf")."""
         env = dict(self.env)
         if which == 'book':
             env['PYTHONPATH'] = os.pathsep.join(
@@ -150,17 +126,7 @@ class Robot(object):
         return env
 
     def close(self):
-        for proc in reversed(self.groups):
-            try:
-                os.killpg(proc.pid, signal.SIGINT)
-            except ProcessLookupError:
-                pass
-        for proc in reversed(self.groups):
-            try:
-                proc.wait(15)
-            except subprocess.TimeoutExpired:
-                os.killpg(proc.pid, signal.SIGKILL)
-                proc.wait()
+        end_processes(self.groups, 15)
 
 
 def course(which, script, wall_limit=120.0):
@@ -284,7 +250,7 @@ def markdown(cpu):
            'One default out-and-back on a fresh `roscore` and `rosrun rbx1_nav '
            'fake_turtlebot.py` (no /use_sim_time, no lockstep), %d rounds alternating '
            'ours (`rosrun rbx1_nav odom_out_and_back.py`) and the book\'s listing '
-           '(bench/book/, tf1 on tf2_ros); CPU s: the course process\'s whole life '
+           '(bench/speed/book/, tf1 on tf2_ros); CPU s: the course process\'s whole life '
            '(user + system), the others\' over the course. Median ours / book\'s, '
            'from the same round: **%.2f** (rounds: %s).%s' % (
                cpu['rounds'], cpu['median_ratio'],

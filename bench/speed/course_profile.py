@@ -1,10 +1,10 @@
 """Where our out-and-back's CPU goes beside the book's script.
 
-    python3 bench/course_profile.py [--rounds 2] [--rate 500] [--out DIR]
+    python3 bench/speed/course_profile.py [--rounds 2] [--rate 500] [--out DIR]
 
-Runs each course as bench/course_cpu.py does (fresh roscore, ``rosrun
+Runs each course as bench/speed/course_cpu.py does (fresh roscore, ``rosrun
 rbx1_nav fake_turtlebot.py``, 1x, free-running), ours and the book's
-alternating, twice a round: under bench/thread_cpu.py (each thread's CPU
+alternating, twice a round: under bench/speed/thread_cpu.py (each thread's CPU
 seconds, from /proc: exact) and under ``py-spy record --format raw --gil
 --nonblocking`` (py-spy on PATH: ``python3 -m pip install py-spy``). It
 prints, for ours and the book's, the CPU per thread, then py-spy's samples
@@ -28,8 +28,8 @@ import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
-import course_cpu  # noqa: E402
+sys.path.insert(0, os.path.dirname(HERE))
+from speed import course_cpu  # noqa: E402
 
 FRAME = re.compile(r'^(?P<func>.*) \((?P<file>[^()]*?)(?::(?P<line>\d+))?\)$')
 
@@ -121,7 +121,7 @@ def profiled(which, script, rate, out):
 
 
 def threads(which, script, out):
-    """One course under bench/thread_cpu.py: {thread: CPU s}."""
+    """One course under bench/speed/thread_cpu.py: {thread: CPU s}."""
     robot = course_cpu.Robot()
     env = robot.course_env(which)
     path = os.path.join(out, '%s_threads_%d.json' % (which, int(time.time() * 1000)))

@@ -14,7 +14,7 @@ with one line, every robot stands still at the end, and each completed
 course reports the end pose its robot really stands at). Needs root
 (network namespaces). Not a test: run it on demand, e.g.
 
-    python3 bench/loss.py --runs 20
+    python3 bench/accuracy/loss.py --runs 20
 
 (source the workspace first, as `make bench` does). Prints, and writes to
 bench/results/loss.md, each run's count and the distribution.
@@ -28,8 +28,9 @@ import subprocess
 import sys
 import time
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from common import RESULTS, ROOT  # noqa: E402
+
 CASE = ('test/faults/test_two_hosts.py::'
         'test_twenty_percent_loss_precise_courses_ride_it_out')
 RESULT = re.compile(r'RESULT 20 % loss, (\d+) precise courses .*?: (\d+) within')
@@ -58,10 +59,10 @@ def main():
                         help='precise courses at once in each run')
     parser.add_argument('--limit', type=float, default=900.0,
                         help='wall seconds one run may take')
-    parser.add_argument('--out', default=os.path.join(HERE, 'results', 'loss.md'))
+    parser.add_argument('--out', default=os.path.join(RESULTS, 'loss.md'))
     args = parser.parse_args()
     if os.geteuid() != 0:
-        sys.exit('bench/loss.py needs root: the link is two network namespaces')
+        sys.exit('bench/accuracy/loss.py needs root: the link is two network namespaces')
     counts, lines = [], []
     for run in range(1, args.runs + 1):
         courses, good, passed, wall, text = one_run(args.limit, args.courses)
@@ -76,7 +77,7 @@ def main():
         lines.append(line)
     histogram = collections.Counter(counts)
     table = ['# Precise courses at 20 % loss', '',
-             '%s, %d runs of `python3 bench/loss.py` (%d courses each).' % (
+             '%s, %d runs of `python3 bench/accuracy/loss.py` (%d courses each).' % (
                  time.strftime('%Y-%m-%d %H:%M'), args.runs, args.courses), '',
              '| within 5 mm / 0.5 deg by ground truth (of %d) | runs |' % args.courses,
              '|---|---|']

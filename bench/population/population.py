@@ -41,9 +41,9 @@ import time
 
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
-RESULTS = os.path.join(HERE, 'results')
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from common import RESULTS, ROOT, end_processes  # noqa: E402
+
 BOOK = (0.01, 3.0)  # m, deg: the book's "less than 1 cm ... a few degrees"
 MODELS = ('physics', 'kinematic')
 
@@ -242,28 +242,28 @@ def lane(job, out):
     """Run the robots of ``job`` (a JSON file) on a master of this
     process's own; append one JSON row per robot to ``out``."""
     sys.path[:0] = [os.path.join(ROOT, 'test', 'helpers'), os.path.join(ROOT, 'test', 'rostest')]
-    from fleet_scale import Bench, stop
+    from graph import Master
     with open(job) as f:
         job = json.load(f)
     # A lane stopped (the bench interrupted) still closes its robot,
     # clock and master: SIGTERM unwinds through the finally clauses.
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(1))
-    bench = Bench()
+    master = Master()
     # Between two nodes of the procedure only the robot is a member: at
     # sim_clock's idle speed (10x by default) it steps 500 times a wall
     # second for nothing (this lane waits in wall time: its node started
     # before /use_sim_time was set).
     clock = subprocess.Popen(['roslaunch', 'rbx1_nav', 'sim_clock.launch', 'sim_speed:=max',
                               'idle_speed:=1'],
-                             env=bench.env, stdout=subprocess.DEVNULL,
+                             env=master.env, stdout=subprocess.DEVNULL,
                              stderr=subprocess.DEVNULL, start_new_session=True)
     from course_harness import RobotWatch, wait_until
     # A robot reads /use_sim_time and /lockstep once, as it starts: not
     # before the launch has set them (it would run on wall time, and its
     # course refuse it). However long that takes, while the launch lives.
-    wait_until(lambda: bench.rospy.has_param('/lockstep') or clock.poll() is not None,
+    wait_until(lambda: master.rospy.has_param('/lockstep') or clock.poll() is not None,
                NODE_WALL_LIMIT)
-    if not bench.rospy.has_param('/lockstep'):
+    if not master.rospy.has_param('/lockstep'):
         raise RuntimeError('sim_clock.launch set no /lockstep: it %s'
                            % ('ended (exit %d)' % clock.returncode if clock.poll() is not None
                               else 'hung for %.0f s' % NODE_WALL_LIMIT))
@@ -282,8 +282,8 @@ def lane(job, out):
             with open(out, 'a') as f:
                 f.write(json.dumps(row) + '\n')
     finally:
-        stop(clock)
-        bench.close()
+        end_processes([clock], 30)
+        master.close()
 
 
 # -- the population: lanes, table, plot ----------------------------------

@@ -8,7 +8,7 @@ count too (up to PERIOD s of their CPU may be missed). Threads are named
 by their name and target function (threading.Thread; rospy names a
 subscriber's by its topic) or, for threads started with _thread (rospy's
 XML-RPC server), as such once Python has seen them, else "other". The sampler's own thread is
-reported as such. bench/course_profile.py uses it beside py-spy: exact
+reported as such. bench/speed/course_profile.py uses it beside py-spy: exact
 CPU per thread, where py-spy's samples give where in a thread.
 """
 import json
@@ -18,8 +18,8 @@ import sys
 import threading
 import time
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from fleet_scale import stat_cpu  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from common import stat_cpu  # noqa: E402
 
 PERIOD = 0.2
 

@@ -11,7 +11,7 @@ this tool exists to find: simulated time stopped for good). It also counts
 the lines in which sim_clock says whom it waits for (a member slow for over
 a second). Not a test: run it on demand, e.g.
 
-    python3 bench/soak.py --runs 200 --burners 2
+    python3 bench/accuracy/soak.py --runs 200 --burners 2
 
 (source the workspace first, as `make bench` does). Prints a table per
 course kind: runs, completed, aborted, hangs, slow-member lines, and the
@@ -25,9 +25,8 @@ import sys
 import threading
 import time
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
-from fleet_scale import free_port, stop  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from common import end_processes, free_port  # noqa: E402
 
 #: (name, launch file, arguments, summary lines expected)
 COURSES = (
@@ -73,7 +72,7 @@ def run_once(launch, args, expected, limit):
             break
         time.sleep(0.02)
     wall = time.monotonic() - started
-    stop(proc)
+    end_processes([proc], 30)
     return outcome, wall, counts['slow']
 
 

@@ -1,5 +1,5 @@
 """A stand-in for tf1's Python ``tf`` module, just what the book's
-odom_out_and_back.py uses (bench/book: Debian 12 has no Python tf).
+odom_out_and_back.py uses (bench/speed/book: Debian 12 has no Python tf).
 
 Noetic's own ``tf.TransformListener`` is a tf2_ros.Buffer filled by a
 Python subscriber on /tf and /tf_static; so is this one

@@ -7,7 +7,7 @@
 # (a bilingual copy of the section); the print lost the indentation, restored
 # here by the code's structure, and nothing else is changed (the stray "5"
 # after "version." is the print's). It runs on Python 3 as it is. "import tf"
-# finds bench/book/tf.py, a tf1 stand-in on tf2_ros (Debian has no Python tf);
+# finds bench/speed/book/tf.py, a tf1 stand-in on tf2_ros (Debian has no Python tf);
 # rbx1_nav.transform_utils is the package's.
 """ odom_out_and_back.py - Version 1.1 2013-12-20
 A basic demo of using the /odom topic to move a robot a given distance

@@ -25,8 +25,8 @@ average before and after, and each row the 1-minute load average at its
 end. Not a test: run it on demand (source the workspace first, as `make
 bench` does), e.g.
 
-    python3 bench/suite_cpu.py --out bench/results/suite_cpu.md
-    python3 bench/suite_cpu.py --tests nav_square --no-pytest
+    python3 bench/suite/suite_cpu.py --out bench/results/suite_cpu.md
+    python3 bench/suite/suite_cpu.py --tests nav_square --no-pytest
 
 Prints the markdown table and writes it to ``--out``.
 """
@@ -43,10 +43,9 @@ import sys
 import tempfile
 import time
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
-sys.path.insert(0, os.path.join(ROOT, 'test', 'helpers'))
-import ros_etc  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from common import RESULTS, ROOT, end_processes  # noqa: E402
+import ros_etc  # noqa: E402  (test/helpers, on the path by common)
 PR_SET_CHILD_SUBREAPER = 36
 #: The wall seconds one rostest may take (test_rostest_files.py's limit).
 LIMIT = 600.0
@@ -149,18 +148,6 @@ def collect_leftovers(grace):
     return len(alive)
 
 
-def stop(proc):
-    """SIGINT to the run's process group (rostest passes it on), then SIGKILL."""
-    try:
-        os.killpg(proc.pid, signal.SIGINT)
-        proc.wait(timeout=30)
-    except subprocess.TimeoutExpired:
-        os.killpg(proc.pid, signal.SIGKILL)
-    except ProcessLookupError:  # the group has ended already
-        pass
-    proc.wait()
-
-
 def run_measured(argv, env=None, limit=LIMIT, grace=5.0):
     """Run argv to its end; (returncode or None on timeout, output, wall s,
     CPU s of the tree, leftover processes)."""
@@ -174,10 +161,10 @@ def run_measured(argv, env=None, limit=LIMIT, grace=5.0):
         try:
             code = proc.wait(timeout=limit)
         except subprocess.TimeoutExpired:
-            stop(proc)
+            end_processes([proc], 30)  # SIGINT: rostest passes it on
             code = None
         except BaseException:  # Ctrl-C: take the run down with us
-            stop(proc)
+            end_processes([proc], 30)
             raise
         log.seek(0)
         out = log.read()
@@ -206,7 +193,7 @@ def main():
     parser.add_argument('--no-rostest', action='store_true', help='the pytest parts only')
     parser.add_argument('--grace', type=float, default=5.0,
                         help='seconds a leftover process gets before it is killed')
-    parser.add_argument('--out', default=os.path.join(HERE, 'results', 'suite_cpu.md'))
+    parser.add_argument('--out', default=os.path.join(RESULTS, 'suite_cpu.md'))
     args = parser.parse_args()
     if not become_subreaper():
         sys.stderr.write('suite_cpu: cannot become a subreaper; orphans CPU is lost\n')
@@ -253,7 +240,7 @@ def main():
     total_cpu = rostest_cpu + pytest_cpu
     lines = [
         '# CPU seconds of the test suite, one part at a time', '',
-        '%s, commit %s, `python3 bench/suite_cpu.py%s`: %d cores, load average '
+        '%s, commit %s, `python3 bench/suite/suite_cpu.py%s`: %d cores, load average '
         '(1, 5, 15 min) %.2f %.2f %.2f before, %.2f %.2f %.2f after (the machine '
         'is shared: wall seconds depend on the neighbours, CPU seconds much less).' % (
             started, commit, ''.join(' ' + a for a in sys.argv[1:]), os.cpu_count(),

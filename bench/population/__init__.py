@@ -1,0 +1,1 @@
+"""Population: the calibration procedure on robots drawn at random."""

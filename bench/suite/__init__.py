@@ -1,0 +1,1 @@
+"""The test suite measured: its CPU seconds, and whether its figures depend on load."""
