@@ -30,9 +30,10 @@ LISTEN = 1.0
 
 class MotionRunner(object):
     """The control loop and the stop on every exit; ``settings``: the values of
-    :func:`~rbx1_nav.motion.runner.runner_params.common_params`; ``choose_clock``: the course's (clock, link) of them
-    (rbx1_nav.course_clock_ros.course_clock). With ``require_tf`` false (open-loop courses) a robot without the
-    transform runs the course blind: no staleness check and no final pose."""
+    runner_params.common_params(); ``choose_clock(rate, wait, timeout, stop, tf_topic,
+    odom_topic)``: the course's clock and link to the robot (rbx1_nav.course_clock_ros). With
+    ``require_tf`` false (open-loop courses) a robot without the transform runs the course
+    blind: no staleness check and no final pose."""
 
     def __init__(self, name, settings, choose_clock, require_tf=True):
         self.name = name
@@ -49,7 +50,7 @@ class MotionRunner(object):
         # Before rospy closes its topics (Ctrl-C, rosnode kill, launch end): the stop goes out.
         rospy.on_shutdown(self.halt)
         self.tf = TfFollower(name, settings['odom_frame'], settings['base_frame'], self.link)
-        self.stalls = OdomVelocities(name, self.link)
+        self.velocities = OdomVelocities(name, self.link)
         self.tf_age = TfAgeWarnings(name, settings['max_tf_age'])
         self._started = False
         # The last course's DropoutHold, ticks (s from its first) and last tick (ROS time). Under
@@ -188,7 +189,7 @@ class MotionRunner(object):
                 self._steer(course, robot, now, start, blind)
                 if course.done:  # stop, and close the stall count
                     self.stop()
-                    self.stalls.check(course, start)
+                    self.velocities.check(course, start)
                     course.stalls.end(t)
                     if blind:
                         break
@@ -207,7 +208,7 @@ class MotionRunner(object):
         age = 0.0 if blind else robot.age(now)
         if robot.fresh_at == now:  # a new transform this tick
             self.tf_age.check(age, course.precise, self.tf.odom_frame, self.tf.followed)
-        self.stalls.check(course, start)
+        self.velocities.check(course, start)
         self.publish(course.update(robot.pose, self.tick_times[-1], age))
         for event in course.pop_events():
             rospy.loginfo(self.robot + event)
@@ -235,7 +236,7 @@ class MotionRunner(object):
 
     def summarize(self, course, final):
         """Log the summary line (rbx1_nav.motion.course.summary)."""
-        held = stalls_text(course.stalls, self.stalls.topic, self.stalls.heard())
+        held = stalls_text(course.stalls, self.velocities.topic, self.velocities.heard())
         rospy.loginfo(summary_line(self.robot, course, final, self.tf.odom_frame,
                                    self.tick_times, held, self.hold.summary()))
 
