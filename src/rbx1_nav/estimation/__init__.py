@@ -7,8 +7,12 @@
   sensor's checked readings, its "not measured" components, whether it is
   active, and start-up;
 * :mod:`~rbx1_nav.estimation.fusion`: :class:`GyroOdomFusion`, when the
-  filter starts, steps and restarts and which sensor does what in it (with
-  and without robot_pose_ekf's GPS mode);
+  filter starts and restarts, and the sensor timeouts;
+* :mod:`~rbx1_nav.estimation.filter_run`: what one run of the filter
+  holds, from its start to a restart;
+* :mod:`~rbx1_nav.estimation.relative_run` and
+  :mod:`~rbx1_nav.estimation.gps_run`: how a run steps and which sensor
+  does what in it, without and with robot_pose_ekf's GPS mode;
 * :mod:`~rbx1_nav.estimation.status`: the texts for a person, the status,
   a silent sensor's warning, a second publisher of our transform;
 * :mod:`~rbx1_nav.estimation.input_check`: the screen every reading

@@ -7,11 +7,12 @@ absurd readings, negative variances; for GPS also a zero variance or a
 stamp from another clock), splits off the components a driver marks "not
 measured" (:func:`unmeasured_components`, said once per sensor at info
 level), and keeps the latest readings and a short history of each sensor
-to read it at any time between them (:meth:`SensorInputs._value_at`).
+to read it at any time between them (:meth:`SensorInputs.value_at`).
 :class:`SensorWatch` tells whether a sensor is active (seen within
 ``sensor_timeout``), lost or back; :meth:`SensorInputs.silent_sensors`
 names the used sensors that never sent anything after start-up. What the
-filter does with the readings is :mod:`rbx1_nav.estimation.fusion`. No rospy.
+filter does with the readings is :mod:`rbx1_nav.estimation.fusion` (and
+the runs it starts). No rospy.
 """
 import collections
 
@@ -125,11 +126,12 @@ class SensorInputs(object):
     """Each used sensor's readings, checked, and whether it is active.
 
     :attr:`watches` maps each sensor to its :class:`SensorWatch`;
-    ``_latest`` to its newest :class:`Reading` and ``_history`` to the last
-    :data:`HISTORY` of them. :attr:`inputs` counts the rejected readings,
-    :attr:`started_at` is start-up. :meth:`forget_readings` empties all
-    but the rejection counts (a restart); notes for the log (the "not
-    measured" components) collect in ``_notes``.
+    :attr:`latest` to its newest :class:`Reading` and :attr:`history` to
+    the last :data:`HISTORY` of them (what the filter's runs read).
+    :attr:`inputs` counts the rejected readings, :attr:`started_at` is
+    start-up. :meth:`forget_readings` empties all but the rejection counts
+    (a restart); notes for the log (the "not measured" components) collect
+    in ``_notes``.
     """
 
     def __init__(self, odom_used, imu_used, vo_used, gps_used,
@@ -151,9 +153,9 @@ class SensorInputs(object):
         """Forget every reading and whether each sensor was ever active."""
         self.watches = {name: SensorWatch(name, self.sensor_timeout)
                         for name in SENSORS}
-        self._latest = dict.fromkeys(SENSORS)
-        self._history = {name: collections.deque(maxlen=HISTORY)
-                         for name in SENSORS}
+        self.latest = dict.fromkeys(SENSORS)
+        self.history = {name: collections.deque(maxlen=HISTORY)
+                        for name in SENSORS}
 
     # -- input ----------------------------------------------------------------
     def add_odom(self, now, stamp, pose, cov3):
@@ -242,8 +244,8 @@ class SensorInputs(object):
     def _add(self, name, now, stamp, value, cov, unmeasured):
         self._seq += 1
         reading = Reading(stamp, value, cov, self._seq, unmeasured)
-        self._latest[name] = reading
-        self._history[name].append(reading)
+        self.latest[name] = reading
+        self.history[name].append(reading)
         self.watches[name].seen(now, stamp)
 
     def used(self, name):
@@ -253,10 +255,10 @@ class SensorInputs(object):
     def used_sensors(self):
         return [n for n in SENSORS if self.used(n)]
 
-    def _value_at(self, name, t):
+    def value_at(self, name, t):
         """Sensor ``name``'s value at time ``t``, interpolated between the
         two readings around it (the nearest one outside them)."""
-        history = self._history[name]
+        history = self.history[name]
         after = None
         for before in reversed(history):
             if before.stamp <= t:
@@ -276,20 +278,20 @@ class SensorInputs(object):
             value[-1] = normalize_angle(value[-1])
         return value[0] if name == 'imu' else tuple(value)
 
-    def _reading_at(self, name, t):
+    def reading_at(self, name, t):
         """Sensor ``name``'s last reading stamped up to ``t`` (else its
         oldest kept; None before any)."""
-        history = self._history[name]
+        history = self.history[name]
         for reading in reversed(history):
             if reading.stamp <= t:
                 return reading
         return history[0] if history else None
 
-    def _period(self, name, default, until):
+    def period(self, name, default, until):
         """Mean interval (s) of sensor ``name``'s last :data:`PERIOD_READINGS`
         readings stamped up to ``until`` (not of those that happen to have
         arrived since)."""
-        stamps = [r.stamp for r in self._history[name]
+        stamps = [r.stamp for r in self.history[name]
                   if r.stamp <= until][-PERIOD_READINGS:]
         if len(stamps) < 2:
             return max(default, 1e-6)
