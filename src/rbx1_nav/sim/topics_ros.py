@@ -82,6 +82,17 @@ def fill_odometry(msg, stamp, frame_id, child, pose, velocity):
     return msg
 
 
+def _topic(ns, name):
+    """Topic ``name`` of the robot in namespace ``ns`` ('': the node's)."""
+    return '%s/%s' % (ns, name) if ns else name
+
+
+def _frame(ns, name):
+    """Frame ``name`` of the robot in namespace ``ns`` (no leading slash;
+    an empty name stays empty)."""
+    return strip_leading_slash('%s/%s' % (ns, name)) if ns and name else name
+
+
 class RobotTopics:
     """One simulated robot's topics, frames and log lines.
 
@@ -103,26 +114,48 @@ class RobotTopics:
 
     def __init__(self, robot, values, lock, ns='', index=None,
                  log_name='fake_turtlebot'):
-        def topic(name):
-            return '%s/%s' % (ns, name) if ns else name
-
-        def frame(name):
-            return strip_leading_slash('%s/%s' % (ns, name)) if ns and name else name
-
         self.robot = robot
         self.lock = lock
         self.log_name = log_name
         self.period = 1.0 / values['rate']
-        self.odom_frame = frame(values['odom_frame'])
-        self.base_frame = frame(values['base_frame'])
+        self.odom_frame = _frame(ns, values['odom_frame'])
+        self.base_frame = _frame(ns, values['base_frame'])
         self.truth_frame = values['ground_truth_frame']
-        self.imu_frame = frame(values['imu_frame']) or self.base_frame
+        self.imu_frame = _frame(ns, values['imu_frame']) or self.base_frame
         self.gps_noise = values['gps_noise']
         self.gps_period = rospy.Duration.from_sec(1.0 / values['gps_rate'])
         self.joints = [values['left_wheel_joint'], values['right_wheel_joint']]
         self.pose_cov = covariance_from_diagonal(values['pose_covariance_diagonal'])
         self.twist_cov = covariance_from_diagonal(values['twist_covariance_diagonal'])
-        # The messages of each step, filled anew each time (fill_odometry).
+        self._make_messages()
+        self.was_timed_out = True
+        self.stopped_at = None  # when the watchdog last stopped the base
+        self.throttle = Throttle(WARN_PERIOD)
+        self._advertise(values, ns)
+        # Its own generator, so turning the GPS on leaves the odometry and
+        # gyro noise of a given ~seed unchanged.
+        seed = robot.config.seed
+        self.gps_rng = np.random.default_rng(
+            None if seed is None else [seed, 1] + ([] if index is None else [index]))
+        self.next_gps = None
+        # A single robot (a fleet's robots each have a tf topic of their
+        # own) names any other node publishing its transform, as pose_ekf
+        # does: a second robot started with the same frames on /tf.
+        self.conflicts = OtherPublisherWatch(CONFLICT_PERIOD)
+        self.tf_sub = (rospy.Subscriber('/tf', TFMessage, self.on_tf, queue_size=100)
+                       if values['publish_tf'] and not ns else None)
+        self._publish_world(ns)
+        # Under lockstep (rbx1_nav.sim.loop_ros.spin_simulator): the
+        # simulator's membership, which counts and holds every command,
+        # and the last step taken, the time each command is queued at
+        # (None: ROS time).
+        self.member = None
+        self.step_time = None
+        self.cmd_sub = rospy.Subscriber(_topic(ns, 'cmd_vel'), Twist, self.on_cmd_vel,
+                                        queue_size=100, tcp_nodelay=True)
+
+    def _make_messages(self):
+        """The messages of each step, filled anew each time (fill_odometry)."""
         self.odom_msg = Odometry()
         self.odom_msg.pose.covariance = self.pose_cov
         self.odom_msg.twist.covariance = self.twist_cov
@@ -131,10 +164,10 @@ class RobotTopics:
         tf = TransformStamped(header=self.odom_msg.header, child_frame_id=self.base_frame)
         tf.transform.rotation = self.odom_msg.pose.pose.orientation
         self.tf_msg = TFMessage([tf])
-        self.was_timed_out = True
-        self.stopped_at = None  # when the watchdog last stopped the base
-        self.throttle = Throttle(WARN_PERIOD)
 
+    def _advertise(self, values, ns):
+        """The publishers of odom, ground_truth, joint_states, the gyro,
+        GPS and tf (the last three as the parameters ask)."""
         # Room for a whole catch-up burst (MAX_CATCH_UP of steps published
         # at once), so a late wake-up does not drop odometry messages. Under
         # lockstep each message is written before the step is reported, so
@@ -147,30 +180,21 @@ class RobotTopics:
                 return synchronous_publisher(name, msg_class)
             return rospy.Publisher(name, msg_class, queue_size=queue_size)
 
-        self.odom_pub = publisher(topic('odom'), Odometry)
-        self.truth_pub = publisher(topic('ground_truth'), Odometry)
-        self.joint_pub = publisher(topic('joint_states'), JointState)
-        self.imu_pub = (publisher(topic('imu_data'), Imu)
+        self.odom_pub = publisher(_topic(ns, 'odom'), Odometry)
+        self.truth_pub = publisher(_topic(ns, 'ground_truth'), Odometry)
+        self.joint_pub = publisher(_topic(ns, 'joint_states'), JointState)
+        self.imu_pub = (publisher(_topic(ns, 'imu_data'), Imu)
                         if values['publish_imu'] else None)
-        self.gps_pub = (publisher(topic('gps'), Odometry, 10)
+        self.gps_pub = (publisher(_topic(ns, 'gps'), Odometry, 10)
                         if values['publish_gps'] else None)
-        # Its own generator, so turning the GPS on leaves the odometry and
-        # gyro noise of a given ~seed unchanged.
-        seed = robot.config.seed
-        self.gps_rng = np.random.default_rng(
-            None if seed is None else [seed, 1] + ([] if index is None else [index]))
-        self.next_gps = None
         # What tf2_ros's TransformBroadcaster and StaticTransformBroadcaster
         # do, on this robot's own topics when it has a namespace.
-        self.tf_pub = (publisher(topic('tf') if ns else '/tf', TFMessage, 100)
+        self.tf_pub = (publisher(_topic(ns, 'tf') if ns else '/tf', TFMessage, 100)
                        if values['publish_tf'] else None)
-        # A single robot (a fleet's robots each have a tf topic of their
-        # own) names any other node publishing its transform, as pose_ekf
-        # does: a second robot started with the same frames on /tf.
-        self.conflicts = OtherPublisherWatch(CONFLICT_PERIOD)
-        self.tf_sub = (rospy.Subscriber('/tf', TFMessage, self.on_tf, queue_size=100)
-                       if values['publish_tf'] and not ns else None)
-        self.static_tf = rospy.Publisher(topic('tf_static') if ns else '/tf_static',
+
+    def _publish_world(self, ns):
+        """Latch the transform from the shared world to this robot's odom."""
+        self.static_tf = rospy.Publisher(_topic(ns, 'tf_static') if ns else '/tf_static',
                                          TFMessage, queue_size=100, latch=True)
         world = TransformStamped()
         world.header.stamp = rospy.Time.now()
@@ -178,14 +202,6 @@ class RobotTopics:
         world.child_frame_id = self.odom_frame
         world.transform.rotation.w = 1.0
         self.static_tf.publish(TFMessage([world]))
-        # Under lockstep (rbx1_nav.sim.loop_ros.spin_simulator): the
-        # simulator's membership, which counts and holds every command,
-        # and the last step taken, the time each command is queued at
-        # (None: ROS time).
-        self.member = None
-        self.step_time = None
-        self.cmd_sub = rospy.Subscriber(topic('cmd_vel'), Twist, self.on_cmd_vel,
-                                        queue_size=100, tcp_nodelay=True)
 
     def on_cmd_vel(self, msg):
         """Queue a command, or under lockstep hold it for the grant that
