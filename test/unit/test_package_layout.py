@@ -114,6 +114,19 @@ def test_imports_run_one_way():
             assert 'rbx1_nav.' + COMPOSITION[:-3] not in _imports(path), path
 
 
+def test_the_pure_course_imports_no_ros_and_nothing_of_the_runner():
+    """motion/course/ is what to drive and when a leg ends: the runner,
+    teleop and the plot stand on it, never the other way round."""
+    course = os.path.join(PACKAGE, 'motion', 'course')
+    for path in glob.glob(os.path.join(course, '*.py')):
+        for name in _imports(path):
+            parts = name.split('.')
+            assert parts[0] not in ROS_CLIENTS, '%s imports %s' % (path, name)
+            if parts[:2] == ['rbx1_nav', 'motion'] and len(parts) > 2:
+                assert parts[2] == 'course', '%s imports %s' % (
+                    os.path.relpath(path, ROOT), name)
+
+
 def _module_name(path):
     rel = os.path.relpath(path, os.path.dirname(PACKAGE))[:-3].split(os.sep)
     return '.'.join(rel[:-1] if rel[-1] == '__init__' else rel)
