@@ -25,12 +25,12 @@ signal.signal(signal.SIGINT, signal.SIG_DFL)  # a signal during the imports: gon
 
 from rbx1_nav.common.node_ros import exit_node  # noqa: E402
 from rbx1_nav.common.params import integer, number, param, text  # noqa: E402
+from rbx1_nav.common.params_lists import texts  # noqa: E402
 from rbx1_nav.sim.bag_play_ros import main  # noqa: E402
 
 PARAMS = (
     param('bag', '', text, '', 'the bag file to play'),
-    param('topics', [], lambda name, value: [text(name, t) for t in value]
-          if isinstance(value, list) else text(name, value, allow_empty=True).split(), '',
+    param('topics', [], texts, '',
           'topics to play (a list, or names separated by spaces); empty: all'),
     param('start', 0.0, number, 's', 'play from this long after the '
           "bag's first message", minimum=0.0),

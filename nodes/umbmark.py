@@ -39,13 +39,12 @@ import signal
 signal.signal(signal.SIGINT, signal.SIG_DFL)  # a signal during the imports: gone, quietly
 
 from rbx1_nav.calibration.truth_ros import TRUTH_PARAM  # noqa: E402
-from rbx1_nav.calibration.umbmark_ros import NAME, main  # noqa: E402
+from rbx1_nav.calibration.umbmark_ros import APPROACH_PARAMS, NAME, main  # noqa: E402
 from rbx1_nav.common import params, params_lists  # noqa: E402
 from rbx1_nav.common.node_ros import exit_node  # noqa: E402
 from rbx1_nav.course_clock_ros import course_clock  # noqa: E402
 from rbx1_nav.common.params import param  # noqa: E402
 from rbx1_nav.motion.course.command import MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED  # noqa: E402
-from rbx1_nav.motion.course.precise import PRECISE_PARAMS  # noqa: E402
 from rbx1_nav.motion.runner.runner_params import common_params  # noqa: E402
 
 PARAMS = (
@@ -73,7 +72,7 @@ PARAMS = (
           allow_empty=True),
     param('compare', '', params.text, '', 'an earlier results file to plot '
           'beside these (before / after)', allow_empty=True),
-) + tuple(p for p in PRECISE_PARAMS if p.name != 'precise') + common_params(
+) + APPROACH_PARAMS + common_params(
     rate=20.0)
 
 

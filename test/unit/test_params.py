@@ -7,7 +7,7 @@ from hypothesis import given, strategies as st
 from rbx1_nav.common.params import (POSITIVE, bounds, check_all, command_line, flag, frame,
                                     integer, leftovers, number, param, raw, start_text, text)
 from rbx1_nav.common.params_help import markdown, usage
-from rbx1_nav.common.params_lists import names, number_list, pairs
+from rbx1_nav.common.params_lists import names, number_list, pairs, texts
 
 finite = st.floats(allow_nan=False, allow_infinity=False)
 
@@ -193,6 +193,18 @@ def test_pairs_converts_each_pair_and_empty_is_none():
 def test_pairs_rejects_with_the_parameter_and_index(bad, message):
     with pytest.raises(ValueError, match=message):
         pairs('~m', bad)
+
+
+def test_texts_takes_a_list_or_names_separated_by_spaces_and_empty_is_none():
+    """lockstep_play.py's ~topics."""
+    assert texts('~topics', [' /odom ', 'imu_data']) == ['/odom', 'imu_data']
+    assert texts('~topics', ' /odom  imu_data ') == ['/odom', 'imu_data']
+    assert texts('~topics', '') == [] and texts('~topics', None) == []
+    assert texts('~topics', []) == []
+    for bad, message in (([3], '~topics must be a string'), (['odom', ' '], 'must not be empty'),
+                         (3, '~topics must be a string')):
+        with pytest.raises(ValueError, match=message):
+            texts('~topics', bad)
 
 
 def test_range_message_mentions_zero_only_when_it_is_in_range():

@@ -16,11 +16,14 @@ import rospy
 from rbx1_nav.calibration import umbmark
 from rbx1_nav.calibration.truth_ros import GroundTruth
 from rbx1_nav.common.node_ros import start_node
-from rbx1_nav.motion.course.precise import Breakaway, approach
+from rbx1_nav.motion.course.precise import PRECISE_PARAMS, Breakaway, approach
 from rbx1_nav.motion.runner.runner_ros import MotionRunner, guarded
 from rbx1_nav.common.aborted import CourseAborted
 
 NAME = 'umbmark'
+#: Precise mode's settings, which umbmark.py declares: every run is precise
+#: (Benchmark.run), so ~precise itself is not among them.
+APPROACH_PARAMS = tuple(p for p in PRECISE_PARAMS if p.name != 'precise')
 
 
 def ask(question):

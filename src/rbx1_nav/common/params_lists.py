@@ -3,10 +3,10 @@ rbx1_nav.common.params so that a course does not load them. No rospy here.
 """
 import re
 
-from rbx1_nav.common.params import number
+from rbx1_nav.common.params import number, text
 from rbx1_nav.transform_utils import strip_leading_slash
 
-__all__ = ['number_list', 'pairs', 'names']
+__all__ = ['number_list', 'pairs', 'names', 'texts']
 
 
 def number_list(name, value, length, minimum=None, maximum=None, allow_zero=True):
@@ -30,6 +30,14 @@ def pairs(name, value):
             raise ValueError(problem)
         result.append(tuple(number('%s[%d]' % (name, k), v) for v in item))
     return result
+
+
+def texts(name, value):
+    """``value`` as a list of non-empty texts: a list of them, or one text
+    of them separated by spaces ('' or None: none)."""
+    if isinstance(value, list):
+        return [text(name, item) for item in value]
+    return text(name, value, allow_empty=True).split()
 
 
 # A relative ROS graph name: base names joined by '/'.
