@@ -200,15 +200,72 @@ def _signal_reset(statement):
             and call.func.attr == 'signal')
 
 
+#: What a node may call in a declaration: the package's helpers that declare
+#: parameters.
+DECLARATION_HELPERS = ('rbx1_nav.common.params.param',
+                       'rbx1_nav.motion.runner.runner_params.common_params',
+                       'rbx1_nav.calibration.scale_ros.node_params')
+
+
+def _imported(tree):
+    """{name: the module or object it stands for} of a module's imports."""
+    found = {}
+    for statement in tree.body:
+        if isinstance(statement, ast.Import):
+            for alias in statement.names:
+                found[alias.asname or alias.name.split('.')[0]] = (
+                    alias.name if alias.asname else alias.name.split('.')[0])
+        elif isinstance(statement, ast.ImportFrom) and statement.module:
+            for alias in statement.names:
+                found[alias.asname or alias.name] = statement.module + '.' + alias.name
+    return found
+
+
+def _dotted(node, imported):
+    """What a name, or a chain of attributes of one, stands for (through the
+    imports: ``params.param`` is rbx1_nav.common.params.param); else None."""
+    if isinstance(node, ast.Attribute):
+        base = _dotted(node.value, imported)
+        return base and base + '.' + node.attr
+    return imported.get(node.id, node.id) if isinstance(node, ast.Name) else None
+
+
+def _logic(node, imported):
+    """The first part of ``node`` (an expression) that is logic, or None.
+    Not logic: literals, names, calls of DECLARATION_HELPERS, and what puts
+    these together: tuples, lists, dicts, a sign, ``+`` (declarations
+    joined) and ``'text' % values`` (a help text)."""
+    if isinstance(node, ast.Constant) or _dotted(node, imported) is not None:
+        return None
+    if isinstance(node, (ast.Tuple, ast.List)):
+        parts = node.elts
+    elif isinstance(node, ast.Dict):
+        parts = [key for key in node.keys if key is not None] + node.values
+    elif isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.UAdd, ast.USub)):
+        parts = [node.operand]
+    elif isinstance(node, ast.BinOp) and (isinstance(node.op, ast.Add) or (
+            isinstance(node.op, ast.Mod) and isinstance(node.left, ast.Constant)
+            and isinstance(node.left.value, str))):
+        parts = [node.left, node.right]
+    elif isinstance(node, ast.Call) and _dotted(node.func, imported) in DECLARATION_HELPERS:
+        parts = node.args + [keyword.value for keyword in node.keywords]
+    else:
+        return node
+    return next((found for found in (_logic(part, imported) for part in parts)
+                 if found is not None), None)
+
+
 def test_nodes_hold_no_rospy_logic_of_their_own():
     """A node file is its docstring, its imports (the package's, sys, signal),
-    its declarations (NAME, PARAMS and their constants) and one call of an
-    entry point: the ROS plumbing lives in a *_ros.py module, the behaviour
-    beside it."""
+    its declarations (NAME, PARAMS and their constants: literals, names and
+    calls of DECLARATION_HELPERS) and one call of an entry point: the ROS
+    plumbing lives in a *_ros.py module, the behaviour beside it."""
     for path in NODES:
         name = os.path.relpath(path, ROOT)
         with open(path) as f:
-            tree = ast.parse(f.read(), path)
+            source = f.read()
+        tree = ast.parse(source, path)
+        imported = _imported(tree)
         first, rest = tree.body[0], tree.body[1:]
         assert isinstance(first, ast.Expr) and isinstance(first.value, ast.Constant), (
             '%s: no docstring' % name)
@@ -226,6 +283,12 @@ def test_nodes_hold_no_rospy_logic_of_their_own():
             elif isinstance(statement, ast.Assign):
                 assert all(isinstance(t, (ast.Name, ast.Tuple)) for t in statement.targets), (
                     '%s:%d: only names are declared' % (name, statement.lineno))
+                logic = _logic(statement.value, imported)
+                assert logic is None, (
+                    '%s:%d: a declaration holds literals, names and calls of %s, not %r: '
+                    'logic goes in src/rbx1_nav/<subsystem>/' % (
+                        name, logic.lineno, ', '.join(DECLARATION_HELPERS),
+                        ast.get_source_segment(source, logic)))
             else:
                 assert _main_call(statement) is not None, (
                     '%s:%d: a node holds declarations and one call under __main__, not %s'
