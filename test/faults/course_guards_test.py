@@ -22,8 +22,8 @@ with the fake robot; ``~case`` picks the fault:
 * ``typo``: ``_goal_distnace:=0.5`` on the command line refuses to move
   and leaves the master's parameters as it found them (the fake robot's
   typo too); the same typo left on the master only warns (the course
-  runs); the .test also launches a node with the typo as a ``<param>``,
-  which refuses too.
+  runs its default goal_distance, which nothing else sets); the .test
+  also launches a node with the typo as a ``<param>``, which refuses too.
 
 In driver, second_course, two_publishers and jump this test is a lockstep member, with
 ticks of its own as a teleop node's at 10 Hz (``hold_ticks``): time waits
@@ -57,6 +57,8 @@ from rbx1_nav.common.publish_ros import to_ns  # noqa: E402
 
 #: A short course: one leg.
 SHORT = {'legs': 1, 'goal_distance': 0.5, 'tf_timeout': 5.0}
+#: odom_out_and_back.py's ~goal_distance when none is set (m).
+DEFAULT_GOAL_DISTANCE = 1.0
 #: A course's first line, logged once it has simulated time.
 STARTED = 'parameter at its default'
 
@@ -384,10 +386,13 @@ class CourseGuardsTest(unittest.TestCase):
         self.assertFalse(rospy.has_param('/fake_turtlebot_typo'), rospy.get_param_names())
 
         # Left on the master by an earlier run, not on this command line:
-        # a warning, and the course runs (a short one).
+        # a warning, and the course runs. Its command line sets no
+        # goal_distance, so the leg it drives is the default's (1 m) unless
+        # the leftover typo's 0.2 m took its place.
         before = watch.pose()
+        unset = {key: value for key, value in SHORT.items() if key != 'goal_distance'}
         leftover = CourseProcess(name='leftover', leftovers={'goal_distnace': 0.2},
-                                 params=dict(SHORT, goal_distance=0.1, goal_angle=0.3))
+                                 params=dict(unset, goal_angle=0.3))
         status = leftover.finish()
         self.assertTrue(wait_until(watch.still), 'robot still moving after the course')
         drove = watch.moved_since(before)
@@ -397,9 +402,10 @@ class CourseGuardsTest(unittest.TestCase):
         self.assertIn('unknown parameter ~goal_distnace is ignored (did you mean '
                       '~goal_distance?)', leftover.output)
         self.assertIn('Course complete', leftover.output)
-        # It drove its own goal_distance (0.1 m), not the leftover's 0.2:
-        # within 1 cm by ground truth.
-        self.assertLess(abs(drove - 0.1), 0.01, leftover.output)
+        # It drove the default goal_distance, not the leftover's 0.2: within
+        # 1 cm by ground truth (a tick of the course at its default 0.15 m/s
+        # and 20 Hz is 7.5 mm).
+        self.assertLess(abs(drove - DEFAULT_GOAL_DISTANCE), 0.01, leftover.output)
 
 
 if __name__ == '__main__':
