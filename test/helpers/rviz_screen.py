@@ -8,6 +8,7 @@ where a top-down view draws the arrows of a stream of poses.
 Used by test/integration/test_rviz_views.py and
 test/rostest/book_lines_test.py.
 """
+import importlib
 import math
 import os
 import select
@@ -36,6 +37,21 @@ BACKGROUND = (48, 48, 48)  # the configs' 3D view background
 #: Mesa's softpipe, which needs no LLVM, crashed in 1 of 58 beside it.
 #: The cause, inside RViz or Mesa, is not found.
 RVIZ_ENV = {'LIBGL_ALWAYS_SOFTWARE': '1', 'GALLIUM_DRIVER': 'softpipe', 'QT_X11_NO_MITSHM': '1'}
+#: The virtual screen's tools and the Debian packages that hold them (in
+#: the Makefile's DEB_PACKAGES: make deps installs them).
+XVFB, IMAGE_GRAB = '/usr/bin/Xvfb', 'PIL.ImageGrab'
+SCREEN_DEBS = {XVFB: 'xvfb', IMAGE_GRAB: 'python3-pil'}
+
+
+def require_screen():
+    """Fail, naming the package, when Xvfb or PIL.ImageGrab is missing: a
+    test that skipped without them would read as a pass."""
+    assert os.path.exists(XVFB), '%s is not installed: make deps installs %s' % (
+        XVFB, SCREEN_DEBS[XVFB])
+    try:
+        importlib.import_module(IMAGE_GRAB)
+    except ImportError as err:
+        raise AssertionError('%s: make deps installs %s' % (err, SCREEN_DEBS[IMAGE_GRAB]))
 
 
 def view_of(shot):
@@ -142,7 +158,9 @@ class Processes(object):
 
     def start_xvfb(self):
         """A virtual screen on a display number Xvfb picks itself (two tests
-        picking one free number at once would share a screen); sets DISPLAY."""
+        picking one free number at once would share a screen); sets DISPLAY.
+        Fails at once without Xvfb or PIL.ImageGrab (:func:`require_screen`)."""
+        require_screen()
         read, write = os.pipe()
         try:
             self.start('xvfb', ['Xvfb', '-displayfd', str(write), '-screen', '0',

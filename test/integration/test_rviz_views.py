@@ -20,6 +20,7 @@ logging no error, is checked once, by test/rostest/book_lines.test (the
 book's lines as typed, on the ideal robot).
 """
 import os
+import re
 import socket
 import subprocess
 import sys
@@ -33,7 +34,7 @@ import yaml
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 HELPERS = os.path.join(ROOT, 'test', 'helpers')
 sys.path.insert(0, HELPERS)
-from rviz_screen import (BLUE, MIN_PIXELS, RED, RVIZ_ENV,  # noqa: E402
+from rviz_screen import (BLUE, MIN_PIXELS, RED, RVIZ_ENV, SCREEN_DEBS,  # noqa: E402
                          Processes, arrows_area, colour_mask, rviz_errors,
                          top_down_view, view_of, wait_for_picture)
 from rosrun import rosrun  # noqa: E402
@@ -118,15 +119,21 @@ def share(mask, where):
     return np.count_nonzero(mask & where) / max(1, np.count_nonzero(mask))
 
 
+def test_make_deps_installs_the_virtual_screen():
+    """What Processes.start_xvfb requires (rviz_screen.require_screen), the
+    Makefile's DEB_PACKAGES holds."""
+    with open(os.path.join(ROOT, 'Makefile')) as f:
+        listed = re.search(r'DEB_PACKAGES := (.*?)\n[A-Z]', f.read(), re.S).group(1)
+    missing = set(SCREEN_DEBS.values()) - set(listed.replace('\\', ' ').split())
+    assert not missing, 'not in the Makefile\'s DEB_PACKAGES: %s' % sorted(missing)
+
+
 # One RViz at a time: RViz on software GL crashes now and then at its start
 # ("free(): invalid next size", rviz_screen.RVIZ_ENV), the likelier the
 # busier the machine; two at once did. The rostests that start RViz
 # (book_lines.test) are in this group too (test_rostest_files.RVIZ).
 @pytest.mark.xdist_group('rviz')
 def test_sim_rviz_shows_odometry_drifting_from_ground_truth(tmp_path):
-    pytest.importorskip('PIL.ImageGrab')
-    if not os.path.exists('/usr/bin/Xvfb'):
-        pytest.skip('Xvfb is not installed (make deps installs it)')
     with open(CONFIG) as f:
         text = f.read()
     config = yaml.safe_load(text)
@@ -143,7 +150,7 @@ def test_sim_rviz_shows_odometry_drifting_from_ground_truth(tmp_path):
                **RVIZ_ENV)
     procs = Processes(env, str(tmp_path))
     try:
-        display = procs.start_xvfb()
+        display = procs.start_xvfb()  # fails without Xvfb or PIL.ImageGrab: no skip
         procs.start('robot', ['roslaunch', '-p', str(port), 'rbx1_nav',
                               'fake_turtlebot.launch', 'sim_speed:=10', 'realistic:=true'])
         rviz = procs.start('rviz', ['rviz', '-d', str(drawn)])
