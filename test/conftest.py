@@ -19,7 +19,9 @@ import pytest
 importlib.import_module('rbx1_nav')
 
 # roscore.xml's parameters answered once for the whole run, not by two
-# rosversion processes at every launch (test/helpers/ros_etc.py).
+# rosversion processes at every launch (test/helpers/ros_etc.py). The
+# install-space launches read the system's own, and check that it gives
+# the same (test/integration/test_install_space.py).
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), 'helpers'))
 importlib.import_module('ros_etc').use_answered_etc()
 

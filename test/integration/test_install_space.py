@@ -4,13 +4,22 @@ the source tree on no path: the book's cfg modules import as the book's
 scripts do (``from rbx1_nav.cfg import CalibrateLinearConfig``, checked from
 the devel space too), the demo course completes and its launch ends
 cleanly, and a rostest passes.
+
+The demo and the rostest here are the only launches of make test that read
+the system's own roscore.xml, whose parameters run rosversion: every other
+launch reads the suite's answered copy (test/helpers/ros_etc.py), which
+must give the same parameters.
 """
 import os
 import re
 import socket
 import subprocess
+import sys
+import xml.etree.ElementTree as ElementTree
 
 import pytest
+import roslaunch.config
+import rospkg
 
 IMPORT = ('import rbx1_nav, rbx1_nav.motion.runner.runner_ros; '
           'from rbx1_nav.cfg import CalibrateLinearConfig as L, '
@@ -26,6 +35,12 @@ SOURCE = os.path.dirname(os.path.dirname(os.path.dirname(
 # One install space per run: its tests go to one worker (make test's
 # --dist loadgroup).
 pytestmark = pytest.mark.xdist_group('install_space')
+sys.path.insert(0, os.path.join(SOURCE, 'test', 'helpers'))
+import ros_etc  # noqa: E402
+
+#: Put before a command of run_in that launches: the ROS_ETC_DIR the
+#: install space's setup leaves (unset: rospkg's default, /etc/ros).
+SHOW_ETC = 'echo "ROS_ETC_DIR=${ROS_ETC_DIR-}"; '
 
 
 def workspace():
@@ -45,6 +60,18 @@ def run_in(setup, command, timeout=120):
          'source %s && cd /tmp && %s' % (setup, command)],
         stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
         universal_newlines=True, timeout=timeout)
+
+
+def assert_system_etc(output):
+    """The launch of a SHOW_ETC command (its ``output``) read a roscore.xml
+    whose parameters run commands: the system's own, not the suite's
+    answered copy (in this process's ROS_ETC_DIR)."""
+    shown = re.search(r'^ROS_ETC_DIR=(.*)$', output, re.M)
+    assert shown, output[-3000:]
+    etc = rospkg.get_etc_ros_dir({'ROS_ETC_DIR': shown.group(1)} if shown.group(1) else {})
+    commands = ros_etc.command_params(ElementTree.parse(os.path.join(etc, 'roscore.xml')))
+    assert commands, '%s (ROS_ETC_DIR %s) runs no command: not the system\'s own' % (
+        os.path.join(etc, 'roscore.xml'), os.environ.get('ROS_ETC_DIR'))
 
 
 def check_imports(setup, space):
@@ -110,10 +137,21 @@ def test_demo_course_completes_from_the_install_space(install_setup):
         s.bind(('localhost', 0))
         port = s.getsockname()[1]
     # Through launch_status.py: roslaunch exits 0 whatever the course did.
-    proc = run_in(install_setup, 'export ROS_MASTER_URI=http://localhost:%d; '
+    proc = run_in(install_setup, SHOW_ETC + 'export ROS_MASTER_URI=http://localhost:%d; '
                   'rosrun rbx1_nav launch_status.py rbx1_nav odom_out_and_back_sim.launch '
                   'sim_speed:=10' % port)
     assert proc.returncode == 0, proc.stdout[-3000:]
+    # It read the system's roscore.xml, and its parameters are those the
+    # suite's answered copy gives every other launch (as roslaunch's
+    # summary prints them: trailing whitespace stripped).
+    assert_system_etc(proc.stdout)
+    answered = roslaunch.config.load_config_default([], None, verbose=False).params
+    assert answered
+    for name, param in answered.items():
+        shown = re.search(r'^ \* %s: (.*)$' % re.escape(name), proc.stdout, re.M)
+        assert shown and shown.group(1) == str(param.value).rstrip(), (
+            '%s: the system\'s roscore.xml gave %r, the suite\'s answered copy %r' % (
+                name, shown and shown.group(1), param.value))
     assert proc.stdout.rstrip().endswith('launch_status: odom_out_and_back exited 0'), (
         proc.stdout[-3000:])
     # The ideal fake robot: its odometry is its ground truth, so the
@@ -130,5 +168,6 @@ def test_demo_course_completes_from_the_install_space(install_setup):
 
 
 def test_a_rostest_passes_from_the_install_space(install_setup):
-    proc = run_in(install_setup, 'rostest rbx1_nav out_and_back_no_tf.test')
+    proc = run_in(install_setup, SHOW_ETC + 'rostest rbx1_nav out_and_back_no_tf.test')
     assert proc.returncode == 0, proc.stdout[-3000:]
+    assert_system_etc(proc.stdout)
