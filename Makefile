@@ -101,8 +101,10 @@ demo: build
 	@$(ROS) rosrun rbx1_nav plot_course.py $(CURDIR)/course.bag -o $(CURDIR)/course.png
 	@echo "demo: course complete; recorded $(CURDIR)/course.bag, plotted $(CURDIR)/course.png"
 
-# Accuracy, speed, CPU and scale in one run (tables in bench/results/; not a
-# test). Sections and sizes: make bench BENCH_ARGS="--sections speed --runs 3"
+# Accuracy, speed, CPU and scale in one run, and the lockstep course files
+# idle and beside CPU burners (tables in bench/results/; not a test, but it
+# exits 1 if a lockstep figure moves with the load). Sections and sizes:
+# make bench BENCH_ARGS="--sections speed --runs 3"
 BENCH_ARGS ?=
 bench: build
 	$(ROS) python3 bench/bench.py $(BENCH_ARGS)

@@ -25,17 +25,26 @@ folder of what it measures:
 - physics (bench/speed/physics.py): the kinematic and the physics robot
   (MuJoCo) side by side, and how many physics robots one fake_fleet keeps
   at 1x (``--robots``).
+- determinism (bench/suite/determinism.py): the lockstep course files
+  (``--determinism-tests``, default ``lockstep_*.test``) through rostest
+  idle, then beside ``--burners`` CPU burners; every figure they print
+  must be the same. The suite freezes processes instead
+  (lockstep_max_stalled.test), which leaves out what only real load
+  does: one thread late against another inside a node, a slow
+  rosmaster or rosout. make bench exits 1 if a figure differs.
 - population (only when named; bench/population/population.py):
   docs/calibration.md's procedure on ``--population`` robots drawn from
   ``--seed``, its own tables (bench/results/population_*.md).
 
-The test suite's own cost and determinism are bench/suite/'s, run on
-their own. Writes bench/results/latest.md, latest.json and latest.png, and
-prints the table. Usage: make bench [BENCH_ARGS="--sections speed --runs 3"]
+The test suite's own cost, and the determinism of its other files, are
+bench/suite/'s, run on their own. Writes bench/results/latest.md,
+latest.json and latest.png, and prints the table. Usage:
+make bench [BENCH_ARGS="--sections speed --runs 3"]
 """
 import argparse
 import json
 import os
+import sys
 import time
 
 from common import RESULTS
@@ -43,11 +52,13 @@ from accuracy import courses as accuracy_courses
 from population import population
 from speed import course_cpu, fleet_scale, physics
 from speed import courses as speed_courses
+from suite import determinism
 
 #: Each part of the results and the lines of its table, in latest.md's order.
 TABLES = (('accuracy', accuracy_courses.markdown), ('speed', speed_courses.markdown),
           ('cpu_per_sim_s', speed_courses.cpu_markdown), ('cpu', course_cpu.markdown),
-          ('scale', fleet_scale.section_markdown), ('physics', physics.markdown))
+          ('scale', fleet_scale.section_markdown), ('physics', physics.markdown),
+          ('determinism', determinism.section_markdown))
 
 
 def markdown(results):
@@ -97,9 +108,10 @@ def plot(results, path):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('--sections', nargs='+',
-                        default=['accuracy', 'speed', 'cpu', 'scale', 'physics'],
+                        default=['accuracy', 'speed', 'cpu', 'scale', 'physics',
+                                 'determinism'],
                         choices=['accuracy', 'speed', 'cpu', 'scale', 'physics',
-                                 'population'],
+                                 'determinism', 'population'],
                         help='population (bench/population/population.py, its own tables) '
                         'runs only when named: it takes an hour or more')
     parser.add_argument('--runs', type=int, default=10)
@@ -111,6 +123,12 @@ def main():
     parser.add_argument('--speed-rounds', type=int, default=3,
                         help='speed: rounds of the CPU per simulated second')
     parser.add_argument('--robots', type=int, nargs='+', default=[1, 10, 20, 40, 80])
+    parser.add_argument('--determinism-tests', metavar='PATTERN', nargs='+',
+                        default=determinism.LOCKSTEP_FILES,
+                        help='determinism: the .test files (as bench/suite/determinism.py '
+                        '--tests takes them)')
+    parser.add_argument('--burners', type=int, default=determinism.SECTION_BURNERS,
+                        help='determinism: CPU burners beside the loaded runs')
     parser.add_argument('--out', default=RESULTS)
     parser.add_argument('--render', action='store_true',
                         help='only redo the table and plot from OUT/latest.json')
@@ -144,6 +162,8 @@ def main():
         results['scale'] = fleet_scale.section(args.robots)
     if 'physics' in args.sections:
         results['physics'] = physics.physics(args.robots)
+    if 'determinism' in args.sections:
+        results['determinism'] = determinism.section(args.determinism_tests, args.burners)
     for section in args.sections:
         measured[section] = time.strftime('%Y-%m-%d %H:%M')
     os.makedirs(args.out, exist_ok=True)
@@ -154,6 +174,9 @@ def main():
         json.dump(results, f, indent=1, default=str)
     plot(results, os.path.join(args.out, 'latest.png'))
     print(table)
+    if 'determinism' in args.sections and not determinism.all_same(results['determinism']):
+        sys.exit('bench: determinism: not every figure of the lockstep files was the same '
+                 'idle and beside burners (its table above)')
 
 
 if __name__ == '__main__':

@@ -32,8 +32,9 @@ prints a wall-clock figure writes ``wall`` there, and nothing else does.
 
 The "idle" run is only as idle as the shared machine is: the load average
 is shown with each run. ``--burners 0`` runs each test twice as it is:
-what differs then is scatter from run to run, whatever the load. Not a test: run it on demand (source the
-workspace first, as `make bench` does), e.g.
+what differs then is scatter from run to run, whatever the load. Not a
+test: run it on demand (source the workspace first, as `make bench`
+does), e.g.
 
     python3 bench/suite/determinism.py --tests courses.test umbmark.test
     python3 bench/suite/determinism.py      # every file: slow
@@ -43,6 +44,11 @@ old commit (each test once), then ``--against before.json`` at the new one.
 
 Prints, per test, "same" or the figures that differ (idle, loaded), and a
 summary table; ``--out FILE`` writes the same as markdown.
+
+`make bench` runs it as its determinism section (:func:`section`) on the
+lockstep course files, beside four burners, and exits 1 unless every
+figure is the same: the real load that lockstep_max_stalled.test's
+frozen processes stand in for in the suite.
 """
 import argparse
 import glob
@@ -176,6 +182,87 @@ def kill(procs):
         proc.wait()
 
 
+def idle_and_loaded(test, burners):
+    """(idle, loaded): :func:`run_rostest` of ``test`` as it is, then beside
+    ``burners`` CPU burners."""
+    idle = run_rostest(test)
+    burning = start_burners(burners)
+    try:
+        loaded = run_rostest(test)
+    finally:
+        kill(burning)
+    return idle, loaded
+
+
+def verdict(idle, loaded, compared):
+    """A test's verdict from its two runs and :func:`compare` of them."""
+    same, differ, _, only_idle, only_loaded = compared
+    if not (idle[0] and loaded[0]):
+        return 'failed'
+    if differ or only_idle or only_loaded:
+        return 'differs (%d of %d)' % (len(differ), same + len(differ))
+    if same:
+        return 'same (%d figure%s)' % (same, '' if same == 1 else 's')
+    return 'no figures'
+
+
+#: make bench's determinism section: the lockstep course files, whose
+#: stalls stand in for load in the suite (lockstep_max_stalled.test says
+#: what they leave out), beside real CPU burners.
+LOCKSTEP_FILES = ['lockstep_*.test']
+SECTION_BURNERS = 4
+
+
+def section(patterns=None, burners=SECTION_BURNERS):
+    """make bench's determinism section: each file (``patterns``, default
+    LOCKSTEP_FILES) idle and beside ``burners`` burners; a row each."""
+    rows = []
+    for test in rostest_files(patterns or LOCKSTEP_FILES):
+        idle, loaded = idle_and_loaded(test, burners)
+        compared = compare(idle[2], loaded[2])
+        rows.append({'test': test, 'burners': burners,
+                     'verdict': verdict(idle, loaded, compared),
+                     'runs': [[r[0], round(r[1], 1), round(r[4], 1)] for r in (idle, loaded)],
+                     'differ': compared[1], 'only_idle': compared[3],
+                     'only_loaded': compared[4], 'wall_figures': len(compared[2]),
+                     'failed_output': [r[3] for r in (idle, loaded) if not r[0]]})
+        print('determinism: %s: %s' % (test, rows[-1]['verdict']), flush=True)
+    return rows
+
+
+def all_same(rows):
+    """True if every row's figures were the same idle and loaded."""
+    return bool(rows) and all(r['verdict'].startswith('same') for r in rows)
+
+
+def section_markdown(rows):
+    """The section's table, as lines."""
+    out = ['## Determinism (lockstep files idle, then beside %s CPU burners)'
+           % (rows[0]['burners'] if rows else '?'), '',
+           '| test | verdict | idle | loaded | wall-clock figures (not compared) |',
+           '|---|---|---|---|---|']
+    for r in rows:
+        out.append('| %s | %s | %s | %s | %d |' % (
+            r['test'], r['verdict'], *('%s %.1f s (load %.1f)' % (
+                'pass' if ok else 'FAIL', wall, load) for ok, wall, load in r['runs']),
+            r['wall_figures']))
+    notes = []
+    for r in rows:
+        for node, label, a, b in r['differ']:
+            notes.append('- %s, %s: %s: idle %s, loaded %s' % (r['test'], node, label, a, b))
+        for which in ('only_idle', 'only_loaded'):
+            for node, line in r[which]:
+                notes.append('- %s, %s: only the %s run printed `%s`'
+                             % (r['test'], node, which[5:], line))
+    out += [''] + notes if notes else []
+    for r in rows:
+        for tail in r['failed_output']:
+            out += ['', 'A run of %s failed; the end of its output:' % r['test'], '', '```']
+            out += tail.strip().splitlines()[-15:] + ['```']
+    out.append('')
+    return out
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     parser.add_argument('--tests', metavar='PATTERN', nargs='+',
@@ -233,21 +320,15 @@ def main():
                 loaded = run_rostest(test)
             finally:
                 kill(burners)
-        same, differ, wall, only_idle, only_loaded = compare(idle[2], loaded[2])
+        compared = compare(idle[2], loaded[2])
+        _, differ, wall, only_idle, only_loaded = compared
         runs = 'idle %s %.1f s (load %.1f), loaded %s %.1f s (load %.1f)' % (
             'pass' if idle[0] else 'FAIL', idle[1], idle[4],
             'pass' if loaded[0] else 'FAIL', loaded[1], loaded[4])
-        if not (idle[0] and loaded[0]):
-            verdict = 'failed'
-        elif differ or only_idle or only_loaded:
-            verdict = 'differs (%d of %d)' % (len(differ), same + len(differ))
-        elif same:
-            verdict = 'same (%d figure%s)' % (same, '' if same == 1 else 's')
-        else:
-            verdict = 'no figures'
-        summary.append((test, verdict, len(wall)))
+        outcome = verdict(idle, loaded, compared)
+        summary.append((test, outcome, len(wall)))
         say()
-        say('## %s: %s' % (test, verdict))
+        say('## %s: %s' % (test, outcome))
         say()
         say(runs + '.')
         for name, result in (('idle', idle), ('loaded', loaded)):
