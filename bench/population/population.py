@@ -118,6 +118,17 @@ def true_factors(robot):
             'true_ed': robot['right_wheel_radius_error'] / robot['left_wheel_radius_error']}
 
 
+def physics_model(robot, **driver):
+    """``robot`` on its MuJoCo model without ROS, at rest at time 0, with
+    the ``driver`` settings (fake_turtlebot.py's, e.g. the scale factors
+    set on it) over its own."""
+    from rbx1_nav.sim.physics import PhysicsConfig, PhysicsFleet
+    config = {k: v for k, v in settings(robot, 'physics').items() if k != 'physics'}
+    sim = PhysicsFleet(1, PhysicsConfig(**dict(config, **driver))).robot(0)
+    sim.fleet.step(0.0)
+    return sim
+
+
 def model_factors(robot, period=0.05):
     """The physics robot's own truths, measured on its MuJoCo model without
     ROS: true over odometry distance for a 1 m drive by odometry at 0.15
@@ -127,13 +138,10 @@ def model_factors(robot, period=0.05):
     rest. Rolling on a loaded tyre and scrubbing in a turn are in them, as
     on a real robot; the geometry (:func:`true_factors`) leaves them out."""
     import math
-    from rbx1_nav.sim.physics import PhysicsConfig, PhysicsFleet
-    config = {k: v for k, v in settings(robot, 'physics').items() if k != 'physics'}
     found = {}
     for name, (v, w) in (('model_linear', (0.15, 0.0)), ('model_angular', (0.0, 0.5))):
-        sim = PhysicsFleet(1, PhysicsConfig(**config)).robot(0)
+        sim = physics_model(robot)
         now = 0.0
-        sim.fleet.step(now)
         truth0, odom0 = sim.truth, sim.odom
         odometry = truth = 0.0
         rest = None

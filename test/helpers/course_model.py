@@ -7,7 +7,9 @@ is late, so its true end matches to 0.1 mm and 0.01 deg.
 Used by test/rostest/lockstep_course_test.py and
 test/rostest/book_lines_test.py; :func:`drive` (any course on any of the
 simulator's robots, as the runner drives it) by
-test/integration/test_physics_umbmark.py.
+test/integration/test_physics_umbmark.py; :func:`turn_ratio` (the Eb that
+makes a robot's odometry turn true) by it and by
+test/integration/test_population.py.
 """
 import math
 
@@ -71,3 +73,26 @@ def drive(robot, course, now, period=0.05):
         now += period
         robot.fleet.step(now)
     return settle.pose, now
+
+
+def turn_ratio(robot, rate, turns=4, period=0.05):
+    """Odometry's turn over the true turn of ``robot`` (a simulator's robot
+    at rest, stepped to time 0) after ``turns`` turns in place of 90 deg by
+    odometry at ``rate`` rad/s (negative: clockwise), each commanded every
+    ``period`` s and followed by 1 s at rest: the Eb (UMBmark's
+    wheel_separation_multiplier) that would make its odometry turn true."""
+    now = odometry = truth = 0.0
+    for _ in range(turns):
+        true_start, previous, turned = robot.truth.yaw, robot.odom.yaw, 0.0
+        rest = None
+        while rest is None or now < rest:
+            if rest is None and abs(turned) >= math.pi / 2:
+                rest = now + 1.0
+            robot.command(0.0, 0.0 if rest else rate, now)
+            now += period
+            robot.fleet.step(now)
+            turned += math.remainder(robot.odom.yaw - previous, 2 * math.pi)
+            previous = robot.odom.yaw
+        odometry += turned
+        truth += math.remainder(robot.truth.yaw - true_start, 2 * math.pi)
+    return odometry / truth

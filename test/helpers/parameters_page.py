@@ -1,5 +1,6 @@
 """docs/make_parameters.py, the generator of docs/parameters.md, loaded
-as a module by the tests that check the docs against the nodes."""
+as a module by the tests that check the docs against the nodes; and the
+defaults a node declares, for the tests that run its logic in process."""
 import importlib.util
 import os
 
@@ -12,3 +13,9 @@ def load():
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
+
+
+def node_defaults(script):
+    """{name: default} of the parameters nodes/``script`` declares."""
+    node = load().load(os.path.join(ROOT, 'nodes', script))
+    return {spec.name: spec.default for spec in node.PARAMS}

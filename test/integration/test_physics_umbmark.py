@@ -9,8 +9,9 @@ In process, without ROS: umbmark.py's squares (rbx1_nav.calibration.umbmark,
 at the node's defaults but PARAMS below) driven as its runner drives them
 under lockstep (test/helpers/course_model.drive), then its analysis. The
 node itself is run through ROS on a physics robot by
-test_population.py (Ed against the wheels, the multipliers set on the
-driver, the precise course after) and on the realistic robot by
+test_population.py (Ed against the wheels, Eb against the robot's turns
+in place, the multipliers set on the driver, the precise course after)
+and on the realistic robot by
 test/rostest/umbmark.test (Ed, Eb and the improvement); here is what the
 physics robot makes of the method, which costs a rostest five times as much
 CPU.
@@ -23,7 +24,7 @@ The truths:
   not the geometric 1.03 x 2 / (1 + 1.01) = 1.0249 (umbmark_test.py's
   formula) on carpet: the wheels scrub in a turn, and the robot turns less
   than its encoders say. The truth is measured on the same robot
-  (:func:`odometry_turn_ratio`): 90 deg turns in place by odometry at
+  (course_model.turn_ratio): 90 deg turns in place by odometry at
   UMBmark's turn rate, odometry's total turn over the body's true one, both
   ways round (1.0316 and 1.0313 at 0.5 rad/s).
 
@@ -37,14 +38,13 @@ UMBmark's turns slow down before their goal. Each bound is about three
 times what is measured, as umbmark.test's are: ED_TOLERANCE 0.01 %,
 EB_TOLERANCE 0.5 %, IMPROVEMENT 100x.
 """
-import math
 import os
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, '..', 'helpers'))
 import parameters_page  # noqa: E402
-from course_model import drive  # noqa: E402
+from course_model import drive, turn_ratio  # noqa: E402
 
 from rbx1_nav.calibration import umbmark  # noqa: E402
 from rbx1_nav.motion.course.precise import Breakaway, approach  # noqa: E402
@@ -63,10 +63,7 @@ MULTIPLIERS = ('left_wheel_radius_multiplier', 'right_wheel_radius_multiplier',
 
 def node_values():
     """umbmark.py's parameter values: its defaults, PARAMS over them."""
-    generator = parameters_page.load()
-    node = generator.load(os.path.join(parameters_page.ROOT, 'nodes', 'umbmark.py'))
-    values = {spec.name: spec.default for spec in node.PARAMS}
-    values.update(PARAMS)
+    values = dict(parameters_page.node_defaults('umbmark.py'), **PARAMS)
     assert values['rate'] == 1.0 / PERIOD, values['rate']
     return values
 
@@ -97,36 +94,13 @@ def benchmark(values, **settings):
                             values['wheel_separation'])[2]
 
 
-def odometry_turn_ratio(rate, turns=4, **settings):
-    """Odometry's turn over the true turn of the physics robot with
-    ``settings`` after ``turns`` turns in place of 90 deg by odometry at
-    ``rate`` rad/s (negative: clockwise), each commanded every PERIOD s and
-    followed by 1 s at rest: the Eb that would make this robot's odometry
-    turn true."""
-    robot, now = physics_robot(**settings), 0.0
-    odometry = truth = 0.0
-    for _ in range(turns):
-        true_start, previous, turned = robot.truth.yaw, robot.odom.yaw, 0.0
-        rest = None
-        while rest is None or now < rest:
-            if rest is None and abs(turned) >= math.pi / 2:
-                rest = now + 1.0
-            robot.command(0.0, 0.0 if rest else rate, now)
-            now += PERIOD
-            robot.fleet.step(now)
-            turned += math.remainder(robot.odom.yaw - previous, 2 * math.pi)
-            previous = robot.odom.yaw
-        odometry += turned
-        truth += math.remainder(robot.truth.yaw - true_start, 2 * math.pi)
-    return odometry / truth
-
-
 def test_umbmark_finds_ed_and_eb_of_the_physics_robot_and_its_correction_works():
     values = node_values()
     wheels = {'right_wheel_radius_error': RIGHT, 'wheel_separation_error': SEPARATION}
     rate = values['angular_speed']
     true_ed = RIGHT
-    true_eb = 0.5 * (odometry_turn_ratio(rate, **wheels) + odometry_turn_ratio(-rate, **wheels))
+    true_eb = 0.5 * (turn_ratio(physics_robot(**wheels), rate)
+                     + turn_ratio(physics_robot(**wheels), -rate))
     before = benchmark(values, **wheels)
     assert before.supported, umbmark.report(before)
     factors = umbmark.corrections(before)
