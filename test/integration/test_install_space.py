@@ -2,14 +2,16 @@
 tests, then, in a clean environment with only the install space set up and
 the source tree on no path: the book's cfg modules import as the book's
 scripts do (``from rbx1_nav.cfg import CalibrateLinearConfig``, checked from
-the devel space too), the demo course completes and its launch ends
-cleanly, and a rostest passes.
+the devel space too), the demo course completes as ``make demo`` runs it
+(recorded to a bag, then plotted) and its launch ends cleanly, and a
+rostest passes.
 
 The demo and the rostest here are the only launches of make test that read
 the system's own roscore.xml, whose parameters run rosversion: every other
 launch reads the suite's answered copy (test/helpers/ros_etc.py), which
 must give the same parameters.
 """
+import math
 import os
 import re
 import socket
@@ -20,6 +22,9 @@ import xml.etree.ElementTree as ElementTree
 import pytest
 import roslaunch.config
 import rospkg
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'helpers'))
+from course_model import reference_end_pose  # noqa: E402
 
 IMPORT = ('import rbx1_nav, rbx1_nav.motion.runner.runner_ros; '
           'from rbx1_nav.cfg import CalibrateLinearConfig as L, '
@@ -132,14 +137,71 @@ def test_the_books_files_are_found_from_the_install_space(install_setup):
         assert line.startswith(space), proc.stdout
 
 
-def test_demo_course_completes_from_the_install_space(install_setup):
+#: The demo's true end against the pure model's (test/helpers/course_model.py):
+#: under lockstep the graph takes the model's steps, so only floating point
+#: parts them (book_lines.test's bounds: 0.1 mm, 0.01 deg).
+MATCH = (0.0001, 0.01)  # m, deg
+#: plot_course's title rounds to 0.1 mm and 0.01 deg.
+ROUNDING = (0.0501, 0.00501)  # mm, deg
+
+
+def bag_tracks(path):
+    """{'ground truth': poses, 'odom': poses} of a course's bag, each
+    (x, y, yaw) in the order recorded."""
+    import rosbag
+    from rbx1_nav.transform_utils import quat_to_angle
+    names = {'ground_truth': 'ground truth', 'odom': 'odom'}
+    tracks = {name: [] for name in names.values()}
+    with rosbag.Bag(path) as bag:  # names as recorded: relative ones without a '/'
+        for topic, msg, _ in bag.read_messages(topics=list(names) + ['/' + t for t in names]):
+            p = msg.pose.pose
+            tracks[names[topic.strip('/')]].append(
+                (p.position.x, p.position.y, quat_to_angle(p.orientation)))
+    return tracks
+
+
+def end_vs_start(poses):
+    """(mm, deg) from a track's first pose to its last."""
+    (x0, y0, a0), (x1, y1, a1) = poses[0], poses[-1]
+    return (1e3 * math.hypot(x1 - x0, y1 - y0),
+            math.degrees(math.remainder(a1 - a0, 2 * math.pi)))
+
+
+def check_plot(setup, bag, tracks):
+    """plot_course.py on ``bag`` from the install space, as make demo runs
+    it: the numbers in its figure's title (the PNG holds it as its Title)
+    are the bag's, each track's end against its start, and odometry's end
+    against the ground truth's."""
+    from PIL import Image
+    png = os.path.splitext(bag)[0] + '.png'
+    proc = run_in(setup, 'rosrun rbx1_nav plot_course.py %s -o %s' % (bag, png))
+    assert proc.returncode == 0, proc.stdout[-3000:]
+    with Image.open(png) as image:
+        title = image.text['Title']
+    drawn = {name: (float(mm), float(deg)) for name, mm, deg in re.findall(
+        r'(odom|ground truth): ([\d.]+) mm, ([-+\d.]+) deg', title)}
+    assert set(drawn) == set(tracks), title
+    for name, (mm, deg) in drawn.items():
+        truth = end_vs_start(tracks[name])
+        assert abs(mm - truth[0]) < ROUNDING[0] and abs(deg - truth[1]) < ROUNDING[1], (
+            name, truth, title)
+    apart = re.search(r'at the end: odom: ([\d.]+) mm from ground truth', title)
+    (x, y, _), (tx, ty, _) = tracks['odom'][-1], tracks['ground truth'][-1]
+    assert apart and abs(float(apart.group(1)) - 1e3 * math.hypot(x - tx, y - ty)) < ROUNDING[0], (
+        title)
+    return title
+
+
+def test_demo_course_completes_from_the_install_space(install_setup, tmp_path):
     with socket.socket() as s:  # a free port for this launch's own master
         s.bind(('localhost', 0))
         port = s.getsockname()[1]
-    # Through launch_status.py: roslaunch exits 0 whatever the course did.
+    bag = str(tmp_path / 'course.bag')
+    # As make demo runs it: through launch_status.py (roslaunch exits 0
+    # whatever the course did), recorded to a bag.
     proc = run_in(install_setup, SHOW_ETC + 'export ROS_MASTER_URI=http://localhost:%d; '
                   'rosrun rbx1_nav launch_status.py rbx1_nav odom_out_and_back_sim.launch '
-                  'sim_speed:=10' % port)
+                  'sim_speed:=10 record:=true bag:=%s' % (port, bag))
     assert proc.returncode == 0, proc.stdout[-3000:]
     # It read the system's roscore.xml, and its parameters are those the
     # suite's answered copy gives every other launch (as roslaunch's
@@ -154,17 +216,24 @@ def test_demo_course_completes_from_the_install_space(install_setup):
                 name, shown and shown.group(1), param.value))
     assert proc.stdout.rstrip().endswith('launch_status: odom_out_and_back exited 0'), (
         proc.stdout[-3000:])
-    # The ideal fake robot: its odometry is its ground truth, so the
-    # course's own error is the true one. Under lockstep the same on every
-    # run: 16.7 mm, -1.90 deg (the book's mode: its turns stop at a tick).
-    found = re.search(r'error from the ideal end pose: position ([\d.]+) mm, heading '
-                      r'([-+\d.]+) deg', proc.stdout)
-    assert found, proc.stdout[-3000:]
-    assert float(found.group(1)) < 20.0 and abs(float(found.group(2))) < 2.5, found.group(0)
+    assert 'error from the ideal end pose' in proc.stdout, proc.stdout[-3000:]
     # The launch ends cleanly after the course (end_launch_on_success.py),
     # without roslaunch's red block for a required node's end.
     assert 'finished cleanly: ending the launch' in proc.stdout, proc.stdout[-3000:]
     assert 'REQUIRED process' not in proc.stdout, proc.stdout[-3000:]
+    # The ideal robot from the origin, under lockstep: where the pure
+    # model's course ends, by the bag's ground truth (the robot stands
+    # still there from the course's end to the launch's).
+    tracks = bag_tracks(bag)
+    (x, y, yaw), model = tracks['ground truth'][-1], reference_end_pose({})
+    off = math.hypot(x - model.x, y - model.y)
+    turn = math.degrees(math.remainder(yaw - model.yaw, 2 * math.pi))
+    title = check_plot(install_setup, bag, tracks)
+    print('RESULT demo course end (%.6f, %.6f, %.4f deg), model (%.6f, %.6f, %.4f deg): '
+          'off by %.4f mm, %.5f deg; its plot says: %s' % (
+              x, y, math.degrees(yaw), model.x, model.y, math.degrees(model.yaw),
+              1e3 * off, turn, ' / '.join(title.splitlines())))
+    assert off < MATCH[0] and abs(turn) < MATCH[1]
 
 
 def test_a_rostest_passes_from_the_install_space(install_setup):

@@ -46,6 +46,9 @@ def test_plot_writes_a_png_with_errors_in_the_title(tmp_path):
                         str(out), title='run 1')
     assert out.read_bytes()[:8] == b'\x89PNG\r\n\x1a\n'
     assert title.startswith('run 1\n')
+    from PIL import Image  # make deps installs it (python3-pil)
+    with Image.open(str(out)) as image:
+        assert image.text['Title'] == title
     assert 'odom: 0.0 mm' in title and 'ground truth: 10.0 mm' in title
 
 

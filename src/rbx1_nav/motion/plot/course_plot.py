@@ -105,7 +105,7 @@ def plot_course(tracks, path, title=None, reference=None):
 
     Returns the title used (first line: the course, second: the errors;
     with a ``reference`` track, such as the ground truth, a third line: each
-    other track's final distance from it).
+    other track's final distance from it), which the PNG holds as its Title.
     """
     import matplotlib
     matplotlib.use('Agg')
@@ -156,6 +156,7 @@ def plot_course(tracks, path, title=None, reference=None):
     ax.grid(True, alpha=0.3)
     ax.legend(loc='best', fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=100)
+    # The title in the PNG's text too: its numbers read without the picture.
+    fig.savefig(path, dpi=100, metadata={'Title': full_title})
     plt.close(fig)
     return full_title
