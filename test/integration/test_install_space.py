@@ -79,6 +79,15 @@ def assert_system_etc(output):
         os.path.join(etc, 'roscore.xml'), os.environ.get('ROS_ETC_DIR'))
 
 
+def paths_under(text, root):
+    """The absolute paths in ``text`` (env's lines, rospack's output) that
+    are ``root`` or inside it, compared by path components: a checkout in
+    ``ci4`` is no part of a HOME in ``ci4home`` beside it."""
+    root = os.path.normpath(root)
+    return [token for token in re.split(r'[\s:;=]+', text) if token.startswith('/')
+            and os.path.commonpath([os.path.normpath(token), root]) == root]
+
+
 def check_imports(setup, space):
     proc = run_in(setup, 'python3 -c "%s"' % IMPORT)
     assert proc.returncode == 0, proc.stdout
@@ -121,7 +130,7 @@ def test_the_source_tree_is_on_no_path(install_setup):
     assert proc.returncode == 0, proc.stdout
     assert proc.stdout.splitlines()[0].startswith(os.path.dirname(install_setup))
     for source in (SOURCE, os.path.join(workspace(), 'src')):
-        assert source not in proc.stdout
+        assert paths_under(proc.stdout, source) == [], proc.stdout
 
 
 def test_the_books_files_are_found_from_the_install_space(install_setup):
