@@ -3,11 +3,13 @@
 
 Run by out_and_back_killed.test. A killed node sends no stop; the fake
 robot's watchdog must stop the base cmd_timeout (give or take one step)
-after the last command it received: measured on ground truth from the
-last cmd_vel's time, the robot travels between ~min_travel and
-~max_travel (m), and then stands still.
+after the last command it ran: measured on ground truth from the time that
+command ran from (the robot's own, from its watchdog's log line; not when
+this test heard a command, which its clock may put a tick off), the robot
+travels between ~min_travel and ~max_travel (m), and then stands still.
 """
 import os
+import re
 import signal
 import sys
 import unittest
@@ -17,8 +19,8 @@ import rostest
 from nav_msgs.msg import Odometry
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'helpers'))
-from course_harness import (CourseProcess, RobotWatch, TopicLog,  # noqa: E402
-                            wait_sim, wait_under_way)
+from course_harness import (CourseProcess, RobotWatch, RosoutWatch, TopicLog,  # noqa: E402
+                            wait_sim, wait_under_way, wait_until)
 from rbx1_nav.motion.course.command import pose_error  # noqa: E402
 from rbx1_nav.transform_utils import Pose2D, quat_to_angle  # noqa: E402
 
@@ -37,6 +39,23 @@ class TruthLog(TopicLog):
             return next(((t, pose) for t, pose in self.records if t >= stamp), (None, None))
 
 
+#: The fake robot's watchdog line: when the command it ran last became due.
+WATCHDOG = re.compile(r'no cmd_vel for [\d.]+ s \(the last ran from ([\d.]+) s\); stopping')
+
+
+def watchdog_ran_from(rosout):
+    """The ROS time the robot's last command ran from, by its watchdog's
+    line (waiting for it: the robot logs it as it stops)."""
+    text = 'no cmd_vel for'
+    wait_until(lambda: rosout.find('/fake_turtlebot', text) is not None)
+    lines = rosout.all('/fake_turtlebot', text)
+    found = WATCHDOG.search(lines[-1].msg) if lines else None
+    if not found:
+        raise AssertionError('no watchdog line with the time its last command ran '
+                             'from: %s' % [line.msg for line in lines])
+    return rospy.Time(*divmod(int(round(float(found.group(1)) * 1e9)), 10 ** 9))
+
+
 class KilledTest(unittest.TestCase):
 
     def test_sigkill_leaves_the_simulator_to_stop_the_robot(self):
@@ -44,6 +63,7 @@ class KilledTest(unittest.TestCase):
         max_travel = float(rospy.get_param('~max_travel'))
         watch = RobotWatch()
         truth = TruthLog()
+        rosout = RosoutWatch()
         start = watch.wait_for_truth()
         course = CourseProcess()
         try:
@@ -55,17 +75,17 @@ class KilledTest(unittest.TestCase):
         wait_sim(1.0)  # cmd_timeout (0.5 s) and then some
         received, last = watch.last_command()
         speed = watch.true_speed()
-        # From the true pose at the last command the robot received (the
-        # first ground_truth stamped at or after the test heard it, the
-        # same ROS time under lockstep), not from one read around the
-        # kill: the robot's own travel on its last command until its
-        # watchdog stopped it.
-        stamp, there = truth.at(received)
+        # From the true pose where the robot's last command ran from, not
+        # from one read around the kill: its own travel on that command
+        # until its watchdog stopped it.
+        ran = watchdog_ran_from(rosout)
+        stamp, there = truth.at(ran)
         travel = pose_error(watch.pose(), there)[0]
-        print('RESULT killed: last cmd_vel (%.3f m/s) at %.3f s, truth from %.3f s; '
-              'the robot travelled %.4f m after it (limits %.3f to %.3f m) and stands at '
-              'speed %s' % (last.linear.x, received.to_sec(), stamp.to_sec(), travel,
-                            min_travel, max_travel, speed))
+        print('RESULT killed: last cmd_vel (%.3f m/s) ran from %.3f s (this test heard '
+              'one at %.3f s), truth from %.3f s; the robot travelled %.4f m after it '
+              '(limits %.4f to %.4f m) and stands at speed %s'
+              % (last.linear.x, ran.to_sec(), received.to_sec(), stamp.to_sec(), travel,
+                 min_travel, max_travel, speed))
         self.assertEqual(speed, (0.0, 0.0), 'the robot is still moving')
         self.assertGreater(travel, min_travel, 'the watchdog stopped the robot early')
         self.assertLess(travel, max_travel, 'the watchdog stopped the robot late')

@@ -132,6 +132,19 @@ def test_watchdog_stops_within_timeout_plus_one_period():
     assert sim.truth.x == pytest.approx(0.1, abs=0.2 / RATE)
 
 
+def test_command_time_is_when_the_command_it_runs_became_due():
+    sim = ideal(cmd_timeout=0.5, command_latency=0.03)
+    sim.step(0.0)
+    assert sim.command_time is None  # no command yet
+    sim.command(0.2, 0.0, 0.25)
+    sim.step(0.26)
+    assert sim.command_time is None  # not due before 0.28
+    sim.step(0.3)
+    assert sim.command_time == pytest.approx(0.28, abs=1e-12)
+    sim.step(1.0)  # the watchdog stopped it; the time stays the command's
+    assert sim.timed_out and sim.command_time == pytest.approx(0.28, abs=1e-12)
+
+
 def test_no_command_ever_means_standing_still():
     sim = ideal()
     for k in range(50):

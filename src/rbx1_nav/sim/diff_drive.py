@@ -237,6 +237,12 @@ class DiffDriveFleet:
         """(N, 2): the (v, w) the bases really moved at over the last step."""
         return self._velocity
 
+    @property
+    def command_times(self):
+        """(N,): ns when each base's newest executed command became due
+        (-inf: none yet); the watchdog counts ``cmd_timeout`` from it."""
+        return self._cmd_time
+
     def robot(self, index):
         """Robot ``index`` read as scalars: a :class:`FleetRobot`."""
         return FleetRobot(self, index)
@@ -381,7 +387,8 @@ class FleetRobot:
 
     ``truth`` and ``odom`` are Pose2D, ``velocity`` and ``odom_velocity``
     (v, w) tuples, ``wheel_angles`` and ``wheel_velocities`` [left, right]
-    lists, ``gyro_rate`` and ``gyro_yaw`` floats, ``timed_out`` a bool;
+    lists, ``gyro_rate``, ``gyro_yaw`` and ``command_time`` floats,
+    ``timed_out`` a bool;
     :meth:`command` queues a command for this robot.
     """
 
@@ -414,6 +421,12 @@ class FleetRobot:
     @property
     def odom_velocity(self):
         return tuple(float(c) for c in self.fleet.odom_velocity[self.index])
+
+    @property
+    def command_time(self):
+        """Seconds when the newest command it ran became due; None before any."""
+        due = float(self.fleet.command_times[self.index])
+        return None if math.isinf(due) else due * 1e-9
 
     @property
     def wheel_angles(self):
