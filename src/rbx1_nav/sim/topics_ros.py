@@ -245,10 +245,7 @@ class RobotTopics:
         """Log once each time the watchdog stops or releases the base."""
         timed_out = self.robot.timed_out
         if timed_out and not self.was_timed_out:
-            # When the last command ran from (none after a clock reset): the
-            # watchdog counts from it, by the robot's clock, not by whoever
-            # heard the command when.
-            ran = self.robot.command_time
+            ran = self.robot.command_time  # the watchdog counts from it (None: clock reset)
             rospy.loginfo('%s: no cmd_vel for %g s%s; stopping', self.log_name,
                           self.robot.config.cmd_timeout,
                           '' if ran is None else ' (the last ran from %.3f s)' % ran)
