@@ -26,7 +26,7 @@ from rbx1_nav.calibration.scale import ANGULAR  # noqa: E402
 from rbx1_nav.cfg import CalibrateAngularConfig  # noqa: E402
 from rbx1_nav.calibration.scale_ros import main, node_params  # noqa: E402
 from rbx1_nav.common.node_ros import exit_node  # noqa: E402
-from rbx1_nav.course_clock_ros import course_clock  # noqa: E402
+from rbx1_nav.entry.course_clock_ros import course_clock  # noqa: E402
 
 NAME = 'calibrate_angular'
 PARAMS = node_params(CalibrateAngularConfig)

@@ -25,7 +25,7 @@ from rbx1_nav.calibration.scale import LINEAR  # noqa: E402
 from rbx1_nav.cfg import CalibrateLinearConfig  # noqa: E402
 from rbx1_nav.calibration.scale_ros import main, node_params  # noqa: E402
 from rbx1_nav.common.node_ros import exit_node  # noqa: E402
-from rbx1_nav.course_clock_ros import course_clock  # noqa: E402
+from rbx1_nav.entry.course_clock_ros import course_clock  # noqa: E402
 
 NAME = 'calibrate_linear'
 PARAMS = node_params(CalibrateLinearConfig)

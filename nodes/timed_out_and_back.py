@@ -25,7 +25,7 @@ import signal
 signal.signal(signal.SIGINT, signal.SIG_DFL)  # a signal during the imports: gone, quietly
 
 from rbx1_nav.common.node_ros import exit_node  # noqa: E402
-from rbx1_nav.course_clock_ros import course_clock  # noqa: E402
+from rbx1_nav.entry.course_clock_ros import course_clock  # noqa: E402
 from rbx1_nav.motion.course.book import TIMED_OUT_AND_BACK  # noqa: E402
 from rbx1_nav.motion.runner.runner_params import common_params  # noqa: E402
 from rbx1_nav.motion.runner.runner_ros import run_course_node  # noqa: E402

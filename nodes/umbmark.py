@@ -42,7 +42,7 @@ from rbx1_nav.calibration.truth_ros import TRUTH_PARAM  # noqa: E402
 from rbx1_nav.calibration.umbmark_ros import APPROACH_PARAMS, NAME, main  # noqa: E402
 from rbx1_nav.common import params, params_lists  # noqa: E402
 from rbx1_nav.common.node_ros import exit_node  # noqa: E402
-from rbx1_nav.course_clock_ros import course_clock  # noqa: E402
+from rbx1_nav.entry.course_clock_ros import course_clock  # noqa: E402
 from rbx1_nav.common.params import param  # noqa: E402
 from rbx1_nav.motion.course.command import MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED  # noqa: E402
 from rbx1_nav.motion.runner.runner_params import common_params  # noqa: E402

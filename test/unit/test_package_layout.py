@@ -13,15 +13,11 @@ import re
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), '..', '..'))
 PACKAGE = os.path.join(ROOT, 'src', 'rbx1_nav')
 NODES = sorted(glob.glob(os.path.join(ROOT, 'nodes', '*.py')))
-SUBSYSTEMS = ('common', 'motion', 'sim', 'sim_time', 'calibration', 'estimation')
+SUBSYSTEMS = ('common', 'motion', 'sim', 'sim_time', 'calibration', 'estimation', 'entry')
 #: Modules that talk to a ROS master or a running graph: only *_ros.py may
 #: import them.
 ROS_CLIENTS = ('rospy', 'tf2_ros', 'rosbag', 'rosgraph', 'rospkg',
                'dynamic_reconfigure')
-#: The one module above the subsystems: it chooses a course's clock
-#: (lockstep's or the plain one) and hands it to motion's runner, so it
-#: may import motion and sim_time; nothing imports it but the nodes.
-COMPOSITION = 'course_clock_ros.py'
 #: subsystem -> the subsystems it must not import.
 IMPORT_RULES = {
     'common': set(SUBSYSTEMS) - {'common'},
@@ -30,6 +26,8 @@ IMPORT_RULES = {
     'sim_time': {'motion', 'sim', 'calibration', 'estimation'},
     'estimation': {'motion', 'sim', 'calibration'},
     'calibration': {'sim', 'sim_time', 'estimation'},
+    # Above motion and sim_time: a node's entry point chooses a course's clock there.
+    'entry': {'sim', 'calibration', 'estimation'},
 }
 
 
@@ -76,11 +74,10 @@ def test_installed_programs_exist():
 
 
 def test_one_folder_per_subsystem_and_no_flat_modules():
-    """Only the package's __init__, the book's transform_utils and the
-    composition module sit at the top; every folder is a subsystem that
-    setup.py installs."""
+    """Only the package's __init__ and the book's transform_utils sit at the
+    top; every folder is a subsystem that setup.py installs."""
     top = {os.path.basename(p) for p in glob.glob(os.path.join(PACKAGE, '*.py'))}
-    assert top == {'__init__.py', 'transform_utils.py', COMPOSITION}
+    assert top == {'__init__.py', 'transform_utils.py'}
     folders = {d for d in os.listdir(PACKAGE)
                if os.path.isdir(os.path.join(PACKAGE, d)) and d != '__pycache__'}
     assert folders == set(SUBSYSTEMS)
@@ -103,15 +100,15 @@ def test_only_ros_modules_import_a_ros_client():
 def test_imports_run_one_way():
     for sub, path in _modules():
         banned = IMPORT_RULES.get(sub, set(SUBSYSTEMS))  # top level: none
-        if sub is None and os.path.basename(path) in ('__init__.py', COMPOSITION):
-            banned = {'sim', 'calibration', 'estimation'}
+        if sub is None and path.endswith('__init__.py'):
+            continue
         for name in _imports(path):
             parts = name.split('.')
             if parts[0] == 'rbx1_nav' and len(parts) > 1:
                 assert parts[1] not in banned, '%s (%s) imports %s' % (
                     os.path.relpath(path, ROOT), sub or 'top level', name)
-        if sub is not None:
-            assert 'rbx1_nav.' + COMPOSITION[:-3] not in _imports(path), path
+            assert parts[:2] != ['rbx1_nav', 'entry'] or sub == 'entry', (
+                '%s imports %s: only nodes/ import entry' % (os.path.relpath(path, ROOT), name))
 
 
 def test_the_pure_course_imports_no_ros_and_nothing_of_the_runner():

@@ -1,6 +1,6 @@
 """A course's watch on a simulated /clock it does not own: the first one
 awaited, a stopped one noticed. Loaded only under /use_sim_time
-(rbx1_nav.course_clock_ros).
+(rbx1_nav.entry.course_clock_ros).
 """
 import threading
 import time

@@ -1,7 +1,7 @@
 """A course node's clock and link to the robot under lockstep simulated
 time: the variants of rbx1_nav.motion.runner.clock_ros.RateClock and
 rbx1_nav.motion.runner.robot_link_ros.RobotLink that the runner is handed when the
-graph steps with its nodes (rbx1_nav.course_clock_ros).
+graph steps with its nodes (rbx1_nav.entry.course_clock_ros).
 
 The node is a member from its wait for the transform to the end of its
 course: it joins the owner of simulated time, waits for each grant naming

@@ -1,6 +1,7 @@
 """A course's clock: when each control tick comes. The runner is handed one (chosen above
-motion, in rbx1_nav.course_clock_ros); this is the plain one, for a real robot or a
-free-running simulator. Under lockstep, sim_time's MemberClock answers the same questions."""
+motion, in rbx1_nav.entry.course_clock_ros); this is the plain one, for a real robot or a
+free-running simulator. When simulated time steps with its nodes, sim_time's MemberClock
+answers the same questions."""
 import rospy
 
 __all__ = ['RateClock']

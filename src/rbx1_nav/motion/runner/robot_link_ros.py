@@ -1,7 +1,7 @@
 """A course's link to the robot: the cmd_vel publisher, what was sent, and the robot's state
-read at a tick. This is the plain one: messages are used as they come. Under lockstep,
-sim_time's MemberLink answers the same questions and holds each message for the tick whose
-grant counts it, so a tick reads the same ones on every run."""
+read at a tick. This is the plain one: messages are used as they come. When simulated time
+steps with its nodes, sim_time's MemberLink answers the same questions and holds each message
+for the tick that counts it, so a tick reads the same ones on every run."""
 import rospy
 
 __all__ = ['RobotLink']

@@ -31,7 +31,7 @@ LISTEN = 1.0
 class MotionRunner(object):
     """The control loop and the stop on every exit; ``settings``: the values of
     runner_params.common_params(); ``choose_clock(rate, wait, timeout, stop, tf_topic,
-    odom_topic)``: the course's clock and link to the robot (rbx1_nav.course_clock_ros). With
+    odom_topic)``: the course's clock and link to the robot (rbx1_nav.entry.course_clock_ros). With
     ``require_tf`` false (open-loop courses) a robot without the transform runs the course
     blind: no staleness check and no final pose."""
 
