@@ -70,6 +70,33 @@ def test_fleet_steps_each_robot_like_a_single_model(config):
     assert len(set(finals)) == n
 
 
+@pytest.mark.parametrize('config', [{}, UNCALIBRATED, dict(
+    UNCALIBRATED, encoder_noise=0.01, gyro_noise_density=0.003, seed=7)],
+    ids=['ideal', 'uncalibrated', 'noisy'])
+def test_a_single_robot_is_a_fleet_of_one_to_the_last_bit(config):
+    """DiffDriveSim (plain floats) and DiffDriveFleet(1) (numpy): the same
+    floats at every step, noise, watchdog, clamping, a clock reset and
+    commands on the step's own stamp among them."""
+    fleet = DiffDriveFleet(1, DiffDriveConfig(**config))
+    row, single = fleet.robot(0), DiffDriveSim(DiffDriveConfig(**config))
+    rnd = random.Random(3)
+    t, moved = 5.0, 0
+    for k in range(3000):
+        if k == 1800:
+            t = 2.0  # the clock restarts from further back
+        if rnd.random() < 0.3:
+            v, w = rnd.uniform(-0.7, 0.7), rnd.uniform(-4.0, 4.0)
+            stamp = t + rnd.choice([0.0, rnd.uniform(0.0, 1.0 / RATE)])
+            assert row.command(v, w, stamp) == single.command(v, w, stamp)
+        assert fleet.step(t) == single.step(t)
+        assert state(row) == state(single), k
+        assert row.command_time == single.command_time
+        moved += row.velocity != (0.0, 0.0)
+        t += 1.0 / RATE
+    assert moved > 1000 and single.robot(0) is single
+    assert row.gyro_variances(0.02) == single.gyro_variances(0.02)
+
+
 def test_each_robot_follows_its_own_command():
     fleet = DiffDriveFleet(3)
     fleet.step(0.0)

@@ -181,11 +181,11 @@ def test_rospy_runs_its_shutdown_holding_shutdown_lock():
     lock = rospy.core._shutdown_lock
     assert hasattr(lock, 'acquire') and hasattr(lock, 'release')
     assert 'with _shutdown_lock:' in inspect.getsource(rospy.core.signal_shutdown)
-    # free (no shutdown under way): returns at once
-    done = threading.Thread(target=private.wait_for_shutdown)
-    done.start()
-    done.join(5.0)
-    assert not done.is_alive()
+    assert 'rospy.rostime.wallsleep(0.1)' in inspect.getsource(rospy.core.signal_shutdown)
+    # no shutdown under way: none ran its hooks
+    started = time.monotonic()
+    assert not private.shutdown_hooks_done(0.05)
+    assert 0.05 <= time.monotonic() - started < 2.0
 
 
 def test_documented_but_not_reexported_names_are_there():
@@ -254,3 +254,36 @@ def test_a_shut_down_xmlrpc_node_ends_its_loop_instead_of_spinning():
     node.shutdown('test')
     thread.join(10.0)
     assert not thread.is_alive(), 'the XML-RPC loop still runs after shutdown'
+
+
+def test_shutdown_hooks_done_waits_for_the_hooks_not_for_signal_shutdown(monkeypatch):
+    """Once the flag is up, the hooks run holding the lock: done when it is free."""
+    lock = threading.Lock()
+    monkeypatch.setattr(rospy.core, '_shutdown_lock', lock)
+    monkeypatch.setattr(rospy.core, 'is_shutdown', lambda: True)
+    lock.acquire()
+    started = time.monotonic()
+    threading.Timer(0.2, lock.release).start()
+    assert private.shutdown_hooks_done(5.0)
+    assert time.monotonic() - started >= 0.2
+    lock.acquire()  # hooks that never end
+    assert not private.shutdown_hooks_done(0.05)
+
+
+def test_limit_send_wait_bounds_a_publisher_connection_once():
+    """TCPROSTransport keeps its socket as ``socket``; a timeout set there
+    makes sendall give up, and rospy's publish drops that connection."""
+    assert 'self.socket.sendall(data)' in inspect.getsource(
+        rospy.impl.tcpros_base.TCPROSTransport.write_data)
+    assert 'err_con.append(c)' in inspect.getsource(rospy.topics._PublisherImpl.publish)
+
+    class Connection:
+        socket = socket.socket()
+    try:
+        private.limit_send_wait(Connection, 1.5)
+        assert Connection.socket.gettimeout() == 1.5
+        private.limit_send_wait(Connection, 3.0)  # once: the first one holds
+        assert Connection.socket.gettimeout() == 1.5
+    finally:
+        Connection.socket.close()
+    private.limit_send_wait(object(), 1.0)  # no socket (yet): nothing

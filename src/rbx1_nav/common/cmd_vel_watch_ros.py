@@ -61,17 +61,19 @@ def courses_heard(topic):
     return _courses(heard_headers(topic))
 
 
-def watch_publishers(name, topics, own=None, now=True):
+def watch_publishers(name, topics, own=None, now=True, also=None):
     """Warn of new publishers on ``topics`` (resolved), as NewPublishers(``own``), every PERIOD s
     from a thread, and first at once unless ``now`` is false; returns a look to call any time
     (a course calls it once it hears the others, before it drives, with the master's graph it
-    already has)."""
+    already has), and ``also(graph)`` at each look the master answered."""
     checks = {topic: NewPublishers(own) for topic in topics}
     lock = threading.Lock()
 
     def look(graph=None):
         graph = graph or topic_graph()
         with lock:
+            if also and graph:
+                also(graph)
             for topic in sorted(topics) if graph else ():
                 publishers = graph[0].get(topic, [])
                 found = kinds(graph, topic, set(publishers) - {own})

@@ -15,7 +15,7 @@ from rbx1_nav.common.master_watch import misdirected_text, replaced_node
 from rbx1_nav.common.ros_time import no_clock_text
 from rbx1_nav.common.rospy_private_ros import (end_xmlrpc_loop_at_shutdown,
                                               set_shutdown_request_handler,
-                                              shutdown_request_handler, wait_for_shutdown)
+                                              shutdown_hooks_done, shutdown_request_handler)
 
 
 def _shutdown_on_signal(signum, frame):
@@ -230,23 +230,17 @@ def _ask_master(timeout):
     return answered
 
 
-def _shut_down(reason):
-    """rospy's shutdown (hooks, then unregistering), or the end of one under way."""
-    rospy.signal_shutdown(reason)
-    wait_for_shutdown()
-
-
 def exit_node(name, status):
-    """Shut rospy down and exit with ``status`` (a node's last line). rospy unregisters without a
-    timeout, a hang with the master unreachable, yet a node that exits unregistered stays on record
-    (refuse_misdirected_shutdowns): so wait while the master answers, up to SHUTDOWN_BACKSTOP."""
+    """Shut rospy down and exit with ``status`` (a node's last line), once its hooks have run.
+    rospy unregisters without a timeout, a hang with the master unreachable, yet a node that exits
+    unregistered stays on record (refuse_misdirected_shutdowns): so wait while the master
+    answers, up to SHUTDOWN_BACKSTOP."""
     started = time.monotonic()
-    done = threading.Thread(target=_shut_down, daemon=True, args=('%s finished' % name,))
-    done.start()
+    threading.Thread(target=rospy.signal_shutdown, daemon=True,
+                     args=('%s finished' % name,)).start()
     while True:
         answered = _ask_master(SHUTDOWN_LIMIT)
-        done.join(SHUTDOWN_LIMIT)
-        if not done.is_alive():
+        if shutdown_hooks_done(SHUTDOWN_LIMIT):
             raise SystemExit(status)
         if not answered.is_set() or time.monotonic() - started > SHUTDOWN_BACKSTOP:
             sys.stderr.write('%s: the master at %s does not answer; exiting without '

@@ -5,6 +5,7 @@ import fcntl
 import struct
 import termios
 import threading
+import time
 
 import rospy
 import rospy.core
@@ -16,9 +17,9 @@ from rospy.impl.registration import get_service_manager, get_topic_manager
 
 __all__ = ['connection_header', 'sender', 'connections', 'subscribed_connections',
            'published_connections', 'publisher_name', 'subscriber_name', 'transport_header',
-           'unsent_bytes', 'take_clock_subscriber', 'set_rostime', 'shutdown_request_handler',
-           'set_shutdown_request_handler', 'wait_for_shutdown', 'registrations',
-           'end_xmlrpc_loop_at_shutdown']
+           'unsent_bytes', 'limit_send_wait', 'take_clock_subscriber', 'set_rostime', 'shutdown_request_handler',
+           'set_shutdown_request_handler', 'shutdown_hooks_done',
+           'registrations', 'end_xmlrpc_loop_at_shutdown']
 
 
 def connection_header(msg):
@@ -84,6 +85,14 @@ def unsent_bytes(connection):
     return queued + struct.unpack('i', raw)[0]
 
 
+def limit_send_wait(connection, seconds):
+    """Let a write to a publisher's ``connection`` wait at most ``seconds`` (no public API sets
+    it); rospy drops a connection whose write times out, as a broken one."""
+    sock = getattr(connection, 'socket', None)
+    if sock is not None and sock.gettimeout() is None:
+        sock.settimeout(seconds)
+
+
 def take_clock_subscriber():
     """Take rospy's own /clock Subscriber from it (None if none), for the
     caller to unregister and :func:`set_rostime` itself. No public API does;
@@ -110,11 +119,19 @@ def set_shutdown_request_handler(handler):
     ROSHandler.shutdown = handler
 
 
-def wait_for_shutdown():
-    """Wait for a shutdown under way to finish its hooks (``_shutdown_lock``):
-    signal_shutdown returns at once during one, and no public API waits."""
-    with rospy.core._shutdown_lock:
-        pass
+def shutdown_hooks_done(timeout):
+    """True once a shutdown has run its hooks (unregistering among them), within ``timeout`` s.
+    No public API waits for them; signal_shutdown returns 0.6 s after them (it joins rospy's
+    registration thread, which polls every 0.5 s, then sleeps 0.1 s)."""
+    deadline = time.monotonic() + timeout
+    while not rospy.core.is_shutdown():  # set under the lock, before the hooks
+        if time.monotonic() >= deadline:
+            return False
+        time.sleep(0.002)
+    if not rospy.core._shutdown_lock.acquire(timeout=max(0.0, deadline - time.monotonic())):
+        return False
+    rospy.core._shutdown_lock.release()
+    return True
 
 
 def registrations(timeout):

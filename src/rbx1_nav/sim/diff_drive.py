@@ -21,7 +21,8 @@ The model steps a whole fleet at once: :class:`DiffDriveFleet` holds N
 robots of one configuration in numpy arrays (one row per robot), so N robots
 cost one array operation per step (nodes/fake_fleet.py); a
 :class:`FleetRobot` reads one robot's row as scalars. :class:`DiffDriveSim`,
-the single robot of nodes/fake_turtlebot.py, is a fleet of one read that way.
+the single robot of nodes/fake_turtlebot.py, is the same model in plain floats
+(numpy's cost per call would be most of a single robot's).
 
 Time is plain float seconds supplied by the caller (the node passes ROS time),
 so the model behaves identically at any simulation speed. No rospy here.
@@ -449,18 +450,149 @@ class FleetRobot:
         return bool(self.fleet.timed_out[self.index])
 
 
-class DiffDriveSim(FleetRobot):
-    """One simulated base: a :class:`DiffDriveFleet` of one, read as scalars
-    (see :class:`FleetRobot`).
+class DiffDriveSim:
+    """One simulated base (nodes/fake_turtlebot.py): :class:`DiffDriveFleet`'s
+    model for one robot in plain floats, read as :class:`FleetRobot` reads a
+    row. At 50 Hz numpy's cost per call, not the arithmetic, is the step's
+    cost: a one-row fleet took 70 % of an idle robot's CPU. The same
+    operations in the same order, and the same noise drawn from the same
+    generators, give the same floats as a fleet of one
+    (test_diff_drive_fleet checks it, step by step).
 
     Call :meth:`command` for every cmd_vel and :meth:`step` at the control
     rate; :class:`DiffDriveFleet` says how a step treats the commands.
     """
 
+    size = 1
+
     def __init__(self, config=None):
-        super().__init__(DiffDriveFleet(1, config), 0)
+        self.config = config or DiffDriveConfig()
+        problems = self.config.problems()
+        if problems:
+            raise ValueError('invalid fake robot parameters: ' + '; '.join(problems))
+        self._rng, self._gyro_rng = (np.random.default_rng(s) for s in
+                                     np.random.SeedSequence(self.config.seed).spawn(2))
+        self._pending = deque()  # (executable at ns, v, w) in arrival order
+        self._cmd = (0.0, 0.0)
+        self._cmd_time = -math.inf  # ns (a float, as a fleet's array holds it)
+        self._time = None
+        self.timed_out = False  # as a fleet before its first step
+        self.truth = Pose2D(0.0, 0.0, 0.0)
+        self.odom = Pose2D(0.0, 0.0, 0.0)
+        self.velocity = (0.0, 0.0)
+        self.odom_velocity = (0.0, 0.0)
+        self.wheel_angles = [0.0, 0.0]
+        self.wheel_velocities = [0.0, 0.0]
+        self.gyro_rate = 0.0
+        self.gyro_yaw = 0.0
+
+    def robot(self, index):
+        """Itself (a fleet's interface, for a fleet of one)."""
+        if index != 0:
+            raise IndexError('a single robot has only robot 0, not %r' % (index,))
+        return self
+
+    @property
+    def command_time(self):
+        """Seconds when the newest command it ran became due; None before any."""
+        return None if math.isinf(self._cmd_time) else self._cmd_time * 1e-9
+
+    def command(self, v, w, stamp):
+        """Queue a velocity command received at ``stamp`` seconds; see
+        :meth:`DiffDriveFleet.command`."""
+        cfg = self.config
+        v, w = float(v), float(w)
+        due = _ns(stamp) + _ns(cfg.command_latency)
+        if not (math.isfinite(v) and math.isfinite(w)):
+            self._pending.append((due, 0.0, 0.0))
+            return 'non-finite'
+        cv = max(-cfg.max_linear_speed, min(cfg.max_linear_speed, v))
+        cw = max(-cfg.max_angular_speed, min(cfg.max_angular_speed, w))
+        self._pending.append((due, cv, cw))
+        return 'clamped' if (cv, cw) != (v, w) else None
 
     def step(self, now):
         """Advance the simulation to ``now`` seconds; True if time advanced
         (see :meth:`DiffDriveFleet.step`)."""
-        return self.fleet.step(now)
+        now = _ns(now)
+        if self._time is None or now < self._time:
+            if self._time is not None:  # restarted clock: forget old commands
+                self._pending.clear()
+                self._cmd_time = -math.inf
+            self._time = now
+            return False
+        dt = (now - self._time) * 1e-9
+        if dt == 0.0:
+            return False
+        self._time = now
+        cfg = self.config
+        queue = self._pending
+        while queue and queue[0][0] <= now:
+            cmd_time, v, w = queue.popleft()
+            self._cmd_time, self._cmd = float(cmd_time), (v, w)
+        self.timed_out = now - self._cmd_time > _ns(cfg.cmd_timeout)
+        target_v, target_w = (0.0, 0.0) if self.timed_out else self._cmd
+        v = _approach_one(self.velocity[0], target_v, _max_change(cfg.accel_limit_linear, dt))
+        w = _approach_one(self.velocity[1], target_w, _max_change(cfg.accel_limit_angular, dt))
+        self.velocity = (v, w)
+        self.truth = _arc_step_one(self.truth, v * dt, w * dt)
+        self._wheels_and_odometry(v, w, dt)
+        rate = w + cfg.gyro_bias
+        if cfg.gyro_noise_density > 0:
+            rate = rate + (cfg.gyro_noise_density / math.sqrt(dt)
+                           * float(self._gyro_rng.standard_normal(1)[0]))
+        self.gyro_rate = rate
+        self.gyro_yaw = _wrap_one(self.gyro_yaw + rate * dt)
+        return True
+
+    def _wheels_and_odometry(self, v, w, dt):
+        """DiffDriveFleet._update_wheels_and_odometry for one robot."""
+        cfg = self.config
+        half_track = 0.5 * cfg.wheel_separation
+        travel = [(v - w * half_track) * dt, (v + w * half_track) * dt]
+        if cfg.encoder_noise > 0 and (travel[0] != 0.0 or travel[1] != 0.0):
+            noise = self._rng.standard_normal((1, 2))[0]
+            travel = [t + cfg.encoder_noise * math.sqrt(abs(t)) * float(z)
+                      for t, z in zip(travel, noise)]
+        angles = [travel[0] / cfg.left_wheel_radius_error / cfg.wheel_radius,
+                  travel[1] / cfg.right_wheel_radius_error / cfg.wheel_radius]
+        self.wheel_angles = [total + a for total, a in zip(self.wheel_angles, angles)]
+        self.wheel_velocities = [a / dt for a in angles]
+        left = angles[0] * cfg.wheel_radius * cfg.left_wheel_radius_multiplier
+        right = angles[1] * cfg.wheel_radius * cfg.right_wheel_radius_multiplier
+        ds = (0.5 * (left + right) * cfg.linear_scale_error
+              * cfg.odom_linear_scale_correction)
+        dtheta = ((right - left)
+                  / (cfg.wheel_separation * cfg.wheel_separation_multiplier)
+                  * cfg.angular_scale_error * cfg.odom_angular_scale_correction)
+        self.odom = _arc_step_one(self.odom, ds, dtheta)
+        self.odom_velocity = (ds / dt, dtheta / dt)
+
+    def gyro_variances(self, period):
+        """(yaw, yaw rate) variances to report for the gyro at ``period`` s."""
+        return DiffDriveFleet.gyro_variances(self, period)
+
+
+def _wrap_one(angle):
+    """wrap_angles for one angle."""
+    return angle - 2.0 * math.pi * round(angle / (2.0 * math.pi))
+
+
+def _approach_one(current, target, max_change):
+    """_approach for one speed."""
+    if max_change == float('inf'):
+        return target
+    moved = current + math.copysign(max_change, target - current)
+    moved = min(max(moved, min(current, target)), max(current, target))
+    return target if abs(target - current) <= max_change else moved
+
+
+def _arc_step_one(pose, ds, dtheta):
+    """arc_steps for one pose (a Pose2D). numpy's sin and cos, not math's:
+    they differ in the last bit (numpy's are vectorised), and a course's
+    figures are to be the same on either model."""
+    half = 0.5 * dtheta
+    chord = ds * (1.0 if half == 0.0 else float(np.sin(half)) / half)
+    heading = pose.yaw + half
+    return Pose2D(pose.x + chord * float(np.cos(heading)),
+                  pose.y + chord * float(np.sin(heading)), _wrap_one(pose.yaw + dtheta))

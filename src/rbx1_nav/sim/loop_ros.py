@@ -22,8 +22,15 @@ def spin_simulator(rate, step, robots, log_name):
     """Call ``step(stamp)`` on a fixed grid of ROS times, every 1/``rate``
     s, until shutdown: under lockstep as a simulator member (every step
     granted to it, its robots' commands counted), otherwise on whatever ROS
-    time does. ``robots`` are the RobotTopics it steps."""
-    watch_publishers(log_name, [robot.cmd_sub.resolved_name for robot in robots])
+    time does. ``robots`` are the RobotTopics it steps; every PERIOD s of
+    rbx1_nav.common.cmd_vel_watch_ros the master's graph tells them of
+    other publishers on cmd_vel and tf."""
+    def hear_other_tf(graph):
+        for robot in robots:
+            if robot.tf_watch:
+                robot.tf_watch.follow(graph)
+    watch_publishers(log_name, [robot.cmd_sub.resolved_name for robot in robots],
+                     also=hear_other_tf)
     if switch_ros.lockstep():
         spin_lockstep(rate, step, robots, log_name)
     else:

@@ -8,8 +8,8 @@ ground_truth, imu_data and gps out. :func:`make_fleet` is the model the
 parameters ask for, :func:`model_config` its settings. The loop that steps
 the model is rbx1_nav.sim.loop_ros.
 """
-import math
 import os
+import warnings
 
 import numpy as np
 import rospkg
@@ -19,20 +19,20 @@ from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu, JointState
 from tf2_msgs.msg import TFMessage
 
-from rbx1_nav.sim.diff_drive import DiffDriveConfig, DiffDriveFleet, covariance_from_diagonal
-from rbx1_nav.sim.params import GPS_UNKNOWN_VARIANCE, MAX_CATCH_UP, WARN_PERIOD
+from rbx1_nav.sim.diff_drive import (DiffDriveConfig, DiffDriveFleet, DiffDriveSim,
+                                      covariance_from_diagonal)
+from rbx1_nav.sim.params import GPS_UNKNOWN_VARIANCE, WARN_PERIOD
 from rbx1_nav.sim.physics import PhysicsConfig, PhysicsFleet
-from rbx1_nav.sim_time import switch_ros
-from rbx1_nav.common.publish_ros import synchronous_publisher
-from rbx1_nav.common.rospy_private_ros import connection_header
+from rbx1_nav.common.rospy_private_ros import connection_header, connections, limit_send_wait
 from rbx1_nav.common.tf_publishers import (OtherPublisherWatch, foreign_parent,
                                            robot_conflict_text)
 from rbx1_nav.common.throttle import Throttle
 from rbx1_nav.transform_utils import strip_leading_slash, yaw_to_quaternion
 
-__all__ = ['RobotTopics', 'fill_odometry', 'make_fleet', 'model_config']
+__all__ = ['RobotTopics', 'UnheldPublisher', 'fill_odometry', 'make_fleet', 'model_config']
 
 CONFLICT_PERIOD = 30.0  # s between repeats of the second-publisher error
+STALL = 1.0  # wall s a subscriber that stops reading may hold up a step
 
 
 def model_config(values, log_name):
@@ -57,7 +57,7 @@ def make_fleet(values, size, log_name):
     (saying how to install it) when ~physics finds no MuJoCo."""
     config = model_config(values, log_name)
     if not values['physics']:
-        return DiffDriveFleet(size, config)
+        return DiffDriveSim(config) if size == 1 else DiffDriveFleet(size, config)
     urdf = os.path.join(rospkg.RosPack().get_path('rbx1_nav'), 'urdf', 'turtlebot.urdf')
     fleet = PhysicsFleet(size, config, urdf)
     rospy.loginfo('%s: physics robot (MuJoCo %s): %g kg on %s, motors %g N m, '
@@ -91,6 +91,59 @@ def _frame(ns, name):
     """Frame ``name`` of the robot in namespace ``ns`` (no leading slash;
     an empty name stays empty)."""
     return strip_leading_slash('%s/%s' % (ns, name)) if ns and name else name
+
+
+class UnheldPublisher(rospy.Publisher):
+    """A publisher that writes each message before publish() returns (as
+    rbx1_nav.common.publish_ros.synchronous_publisher does), and that no
+    subscriber holds up for long: a write waits at most ``stall`` wall s for
+    a subscriber that stopped reading (a terminal paused with Ctrl-Z, a host
+    gone from the network); then rospy drops that connection, as a broken
+    one, and publishing goes on (a roscpp subscriber connects again, a rospy
+    one once restarted). rospy's queued publishers bound the wait with a
+    thread per subscriber woken for every message: at a simulator's 50 Hz,
+    a quarter of its CPU."""
+
+    def __init__(self, topic, msg_class, stall, **kwargs):
+        with warnings.catch_warnings():  # queue_size None is the point here
+            warnings.simplefilter('ignore', SyntaxWarning)
+            super().__init__(topic, msg_class, queue_size=None, tcp_nodelay=True, **kwargs)
+        self.stall = stall
+
+    def publish(self, *args, **kwargs):
+        for connection in connections(self):
+            limit_send_wait(connection, self.stall)
+        super().publish(*args, **kwargs)
+
+
+class OwnTfWatch:
+    """Names another node publishing a robot's transform on its tf topic
+    ``topic``, as pose_ekf does (a second robot started with the same
+    frames), at once and then every CONFLICT_PERIOD s while it lasts. It
+    subscribes only while another node publishes there (:meth:`follow`):
+    hearing its own transforms cost the robot a quarter of its CPU."""
+
+    def __init__(self, topic, child, log_name):
+        self.topic, self.child, self.log_name = topic, child, log_name
+        self.conflicts = OtherPublisherWatch(CONFLICT_PERIOD)
+        self.sub = None
+
+    def follow(self, graph):
+        """Subscribe or not, by the master's ``graph``
+        (rbx1_nav.common.master_ros.topic_graph)."""
+        others = set(graph[0].get(self.topic, ())) - {rospy.get_name()}
+        if others and self.sub is None:
+            self.sub = rospy.Subscriber(self.topic, TFMessage, self.on_tf, queue_size=100)
+        elif not others and self.sub is not None:
+            self.sub.unregister()
+            self.sub = None
+
+    def on_tf(self, msg):
+        caller = connection_header(msg).get('callerid', '?')
+        parent = foreign_parent(caller, rospy.get_name(), msg.transforms, self.child)
+        if parent and self.conflicts.seen(caller, rospy.Time.now().to_sec()):
+            rospy.logerr('%s: %s', self.log_name, robot_conflict_text(
+                caller, parent, self.child, self.topic))
 
 
 class RobotTopics:
@@ -139,11 +192,9 @@ class RobotTopics:
             None if seed is None else [seed, 1] + ([] if index is None else [index]))
         self.next_gps = None
         # A single robot (a fleet's robots each have a tf topic of their
-        # own) names any other node publishing its transform, as pose_ekf
-        # does: a second robot started with the same frames on /tf.
-        self.conflicts = OtherPublisherWatch(CONFLICT_PERIOD)
-        self.tf_sub = (rospy.Subscriber('/tf', TFMessage, self.on_tf, queue_size=100)
-                       if values['publish_tf'] and not ns else None)
+        # own) names any other node publishing its transform.
+        self.tf_watch = (OwnTfWatch(self.tf_pub.resolved_name, self.base_frame, log_name)
+                         if values['publish_tf'] and not ns else None)
         self._publish_world(ns)
         # Under lockstep (rbx1_nav.sim.loop_ros.spin_simulator): the
         # simulator's membership, which counts and holds every command,
@@ -167,29 +218,24 @@ class RobotTopics:
 
     def _advertise(self, values, ns):
         """The publishers of odom, ground_truth, joint_states, the gyro,
-        GPS and tf (the last three as the parameters ask)."""
-        # Room for a whole catch-up burst (MAX_CATCH_UP of steps published
-        # at once), so a late wake-up does not drop odometry messages. Under
-        # lockstep each message is written before the step is reported, so
-        # a motion node gets its tick's state without a queue thread's delay.
-        queue = int(math.ceil(values['rate'] * MAX_CATCH_UP)) + 10
-        synchronous = switch_ros.lockstep()  # two parameters read once
-
-        def publisher(name, msg_class, queue_size=queue):
-            if synchronous:
-                return synchronous_publisher(name, msg_class)
-            return rospy.Publisher(name, msg_class, queue_size=queue_size)
+        GPS and tf (the last three as the parameters ask). Each writes its
+        message before publish() returns: under lockstep a motion node then
+        gets its tick's state before the step is reported, and at any speed
+        it costs no thread woken per message; a subscriber that stops
+        reading is dropped after STALL s (UnheldPublisher)."""
+        def publisher(name, msg_class):
+            return UnheldPublisher(name, msg_class, STALL)
 
         self.odom_pub = publisher(_topic(ns, 'odom'), Odometry)
         self.truth_pub = publisher(_topic(ns, 'ground_truth'), Odometry)
         self.joint_pub = publisher(_topic(ns, 'joint_states'), JointState)
         self.imu_pub = (publisher(_topic(ns, 'imu_data'), Imu)
                         if values['publish_imu'] else None)
-        self.gps_pub = (publisher(_topic(ns, 'gps'), Odometry, 10)
+        self.gps_pub = (publisher(_topic(ns, 'gps'), Odometry)
                         if values['publish_gps'] else None)
         # What tf2_ros's TransformBroadcaster and StaticTransformBroadcaster
         # do, on this robot's own topics when it has a namespace.
-        self.tf_pub = (publisher(_topic(ns, 'tf') if ns else '/tf', TFMessage, 100)
+        self.tf_pub = (publisher(_topic(ns, 'tf') if ns else '/tf', TFMessage)
                        if values['publish_tf'] else None)
 
     def _publish_world(self, ns):
@@ -230,16 +276,6 @@ class RobotTopics:
                           '|w| <= %g rad/s', self.log_name, msg.linear.x,
                           msg.angular.z, cfg.max_linear_speed,
                           cfg.max_angular_speed)
-
-    def on_tf(self, msg):
-        """Log (at once, then every 30 s while it lasts) another node
-        publishing this robot's transform."""
-        caller = connection_header(msg).get('callerid', '?')
-        parent = foreign_parent(caller, rospy.get_name(), msg.transforms,
-                                self.base_frame)
-        if parent and self.conflicts.seen(caller, rospy.Time.now().to_sec()):
-            rospy.logerr('%s: %s', self.log_name, robot_conflict_text(
-                caller, parent, self.base_frame, self.tf_sub.resolved_name))
 
     def report_watchdog(self, stamp):
         """Log once each time the watchdog stops or releases the base."""
