@@ -25,6 +25,11 @@ folder of what it measures:
 - physics (bench/speed/physics.py): the kinematic and the physics robot
   (MuJoCo) side by side, and how many physics robots one fake_fleet keeps
   at 1x (``--robots``).
+- simulator (bench/speed/simulator.py): the fake robot's CPU for one
+  default course at 1x, and ``odom_out_and_back_sim.launch
+  sim_speed:=max`` from roslaunch to its exit (wall, CPU, the course's
+  speed and end pose), ``--sim-rounds`` rounds alternating with each
+  ``--sim-against WORKSPACE``.
 - determinism (bench/suite/determinism.py): the lockstep course files
   (``--determinism-tests``, default ``lockstep_*.test``) through rostest
   idle, then beside ``--burners`` CPU burners; every figure they print
@@ -50,7 +55,7 @@ import time
 from common import RESULTS
 from accuracy import courses as accuracy_courses
 from population import population
-from speed import course_cpu, fleet_scale, physics
+from speed import course_cpu, fleet_scale, physics, simulator
 from speed import courses as speed_courses
 from suite import determinism
 
@@ -58,6 +63,7 @@ from suite import determinism
 TABLES = (('accuracy', accuracy_courses.markdown), ('speed', speed_courses.markdown),
           ('cpu_per_sim_s', speed_courses.cpu_markdown), ('cpu', course_cpu.markdown),
           ('scale', fleet_scale.section_markdown), ('physics', physics.markdown),
+          ('simulator', simulator.markdown),
           ('determinism', determinism.section_markdown))
 
 
@@ -109,9 +115,9 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('--sections', nargs='+',
                         default=['accuracy', 'speed', 'cpu', 'scale', 'physics',
-                                 'determinism'],
+                                 'simulator', 'determinism'],
                         choices=['accuracy', 'speed', 'cpu', 'scale', 'physics',
-                                 'determinism', 'population'],
+                                 'simulator', 'determinism', 'population'],
                         help='population (bench/population/population.py, its own tables) '
                         'runs only when named: it takes an hour or more')
     parser.add_argument('--runs', type=int, default=10)
@@ -122,7 +128,12 @@ def main():
                         'WORKSPACE (another commit, built with make build WS=...), side by side')
     parser.add_argument('--speed-rounds', type=int, default=3,
                         help='speed: rounds of the CPU per simulated second')
-    parser.add_argument('--robots', type=int, nargs='+', default=[1, 10, 20, 40, 80])
+    parser.add_argument('--robots', type=int, nargs='+', default=[1, 10, 20, 40, 60, 80])
+    parser.add_argument('--sim-against', metavar='WORKSPACE', nargs='*', default=[],
+                        help='simulator: also these workspaces (other commits, built with '
+                        'make build WS=...), rounds alternating')
+    parser.add_argument('--sim-rounds', type=int, default=3,
+                        help='simulator: rounds, about 45 s per side each')
     parser.add_argument('--determinism-tests', metavar='PATTERN', nargs='+',
                         default=determinism.LOCKSTEP_FILES,
                         help='determinism: the .test files (as bench/suite/determinism.py '
@@ -162,6 +173,8 @@ def main():
         results['scale'] = fleet_scale.section(args.robots)
     if 'physics' in args.sections:
         results['physics'] = physics.physics(args.robots)
+    if 'simulator' in args.sections:
+        results['simulator'] = simulator.run(args.sim_against, args.sim_rounds)
     if 'determinism' in args.sections:
         results['determinism'] = determinism.section(args.determinism_tests, args.burners)
     for section in args.sections:

@@ -6,7 +6,10 @@ Without it, roslaunch ends a launch whose required node has finished with
 a red "REQUIRED process [...] has died! ... Initiating shutdown!" block,
 even after a successful course. As a node's launch-prefix:
 
-  <node ... required="true" launch-prefix="rosrun rbx1_nav end_launch_on_success.py">
+  <node ... required="true" launch-prefix="$(find rbx1_nav)/end_launch_on_success.py">
+
+($(find) followed by a script's name gives the built script, in a devel or
+an install space, without rosrun's search of the workspace at each launch.)
 
 A node that fails (non-zero status) still ends a launch with the red block
 naming its exit code. Under rostest, or with other wrapped nodes of the

@@ -16,6 +16,10 @@ with only simulators taking part (a course not started yet, or over) it
 runs at ~idle_speed, so a waiting simulator does not spin a core for
 nothing; with nobody taking part, at real time.
 
+A clock already running under this node's name is left alone: this one
+says so and exits 0 before it registers (the master would shut the
+running one down).
+
 Publishes:  /clock (rosgraph_msgs/Clock), /lockstep_grant
             (rbx1_nav/LockstepGrant, under /lockstep)
 Subscribes: /lockstep_report (rbx1_nav/LockstepReport, under /lockstep)

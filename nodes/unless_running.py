@@ -12,7 +12,7 @@ down when another registers under its name). With a running node of that
 name it prints so and exits 0; otherwise it becomes the node (exec). The
 node, not a launch-prefix run through rosrun: rosrun's package search
 costs half a CPU second at each start (every rostest starts two), and
-roslaunch finds a node in its own process. See rbx1_nav.sim.already_up.
+roslaunch finds a node in its own process. See rbx1_nav.common.already_up.
 """
 import signal
 import sys
@@ -20,7 +20,7 @@ import sys
 # Ctrl-C (or the launch ending) before the node starts: end quietly.
 signal.signal(signal.SIGINT, signal.SIG_DFL)  # Ctrl-C during the imports: gone, quietly
 
-from rbx1_nav.sim.already_up_ros import unless_running  # noqa: E402
+from rbx1_nav.common.already_up_ros import unless_running  # noqa: E402
 
 if __name__ == '__main__':
     sys.exit(unless_running(sys.argv[1:], __doc__))

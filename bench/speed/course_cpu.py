@@ -68,12 +68,13 @@ def our_script(env):
 
 
 class Robot(object):
-    """A fresh master and fake robot, as a user starts them."""
+    """A fresh master and fake robot, as a user starts them (in ``env``, a
+    workspace's environment; default: this process's)."""
 
-    def __init__(self):
+    def __init__(self, env=None):
         port = free_port()
         self.uri = 'http://localhost:%d' % port
-        self.env = dict(os.environ, ROS_MASTER_URI=self.uri, PYTHONUNBUFFERED='1')
+        self.env = dict(env or os.environ, ROS_MASTER_URI=self.uri, PYTHONUNBUFFERED='1')
         self.env.pop('ROS_NAMESPACE', None)
         self.groups = []
         self.core = self._start(['roscore', '-p', str(port)])

@@ -9,7 +9,7 @@ registered, which another node may have since (ros/ros_comm#2241): the
 package's nodes refuse a request that names another node.
 
 Each test starts its own roscore on a free port and kills every process it
-started (rbx1_nav.sim.already_up)."""
+started (rbx1_nav.common.already_up)."""
 import os
 import shutil
 import subprocess

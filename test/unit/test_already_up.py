@@ -1,6 +1,6 @@
-"""rbx1_nav.sim.already_up: the name a node would register, and the lines
+"""rbx1_nav.common.already_up: the name a node would register, and the lines
 of a second robot refused."""
-from rbx1_nav.sim.already_up import refusal_text, resolved_name, skip_text
+from rbx1_nav.common.already_up import refusal_text, resolved_name, skip_text
 
 
 def test_resolved_name_from_default_namespace_and_remaps():

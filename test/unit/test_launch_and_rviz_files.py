@@ -75,7 +75,7 @@ def test_the_books_names_find_one_file():
     for view in ('sim.rviz', 'nav_ekf.rviz'):
         path = os.path.join(rospack.get_path('rbx1_nav'), view)
         assert os.path.realpath(path) == os.path.join(ROOT, 'rviz', view)
-WRAPPER = 'rosrun rbx1_nav end_launch_on_success.py'
+WRAPPER = '$(find rbx1_nav)/end_launch_on_success.py'
 
 
 def nodes_of(path):
@@ -92,9 +92,12 @@ def test_every_node_starts_with_clean_private_parameters(path):
 def test_a_node_that_ends_its_launch_ends_it_cleanly_on_success(path):
     """Without end_launch_on_success.py, roslaunch ends a launch whose
     required node finished with a red "REQUIRED process ... has died!"."""
+    wrapper = [arg for arg in ElementTree.parse(path).getroot().iter('arg')
+               if arg.get('name') == 'wrapper' and arg.get('value') == WRAPPER]
     for node in nodes_of(path):
         if node.get('required') == 'true':
-            assert WRAPPER in node.get('launch-prefix', ''), node.attrib
+            prefix = node.get('launch-prefix', '')
+            assert WRAPPER in prefix or (wrapper and "arg('wrapper')" in prefix), node.attrib
 
 
 def dump_params(launch, *args):

@@ -8,7 +8,7 @@ import threading
 
 import rospy
 
-from rbx1_nav.sim.already_up_ros import refuse_if_running
+from rbx1_nav.common.already_up_ros import refuse_if_running
 from rbx1_nav.sim.loop_ros import spin_simulator
 from rbx1_nav.sim.topics_ros import RobotTopics, make_fleet
 from rbx1_nav.common.node_ros import forget_command_line, start_node, until_shutdown
@@ -66,7 +66,7 @@ def _run(name, specs, doc, make):
 def fake_turtlebot(specs, doc):
     """nodes/fake_turtlebot.py: one robot, its topics relative to the
     node's namespace. With a fake robot of this name already running it
-    refuses (rbx1_nav.sim.already_up_ros) and returns 1."""
+    refuses (rbx1_nav.common.already_up_ros) and returns 1."""
     if refuse_if_running('fake_turtlebot'):
         return 1
 

@@ -7,6 +7,7 @@ import time
 
 import rospy
 
+from rbx1_nav.common.already_up_ros import running_already
 from rbx1_nav.common.launch_end import parent_is_roslaunch
 from rbx1_nav.common.launch_end_ros import end_sim_time
 from rbx1_nav.common.node_ros import start_node
@@ -53,7 +54,10 @@ def sim_clock(specs, doc):
     publish /clock, owning simulated time under /lockstep, until shutdown;
     the exit status (1: a bad parameter). With ~clear_sim_time, the clock
     of a roslaunch removes its launch's /use_sim_time and /lockstep as it
-    ends (rbx1_nav.common.launch_end.sim_time_to_clear)."""
+    ends (rbx1_nav.common.launch_end.sim_time_to_clear). A clock already
+    running under this node's name is left alone: 0, having said so."""
+    if running_already('sim_clock'):
+        return 0
     values = start_node('sim_clock', specs, doc, clock=False)
     if values is None:
         return 1

@@ -1,14 +1,14 @@
-"""A robot started while one is already up (no rospy here).
+"""A node started while one of its name is already up (no rospy here).
 
 A second ``fake_turtlebot.launch`` (or a course's launch with ``sim:=true``
 while the fake robot of another launch runs) would register its nodes
 under the names the running ones hold; the master then shuts the running
 ones down, and roscpp's robot_state_publisher takes the new one down with
 it: no robot at all. Instead the new launch's nodes look first
-(rbx1_nav.sim.already_up_ros): the fake robot refuses with
-:func:`refusal_text` and ends its launch; robot_state_publisher, sim_clock
-and RViz, started through nodes/unless_running.py, leave the running ones
-alone (:func:`skip_text`).
+(rbx1_nav.common.already_up_ros): the fake robot refuses with
+:func:`refusal_text` and ends its launch; sim_clock, and
+robot_state_publisher and RViz started through nodes/unless_running.py,
+leave the running ones alone (:func:`skip_text`).
 """
 
 __all__ = ['resolved_name', 'refusal_text', 'skip_text']

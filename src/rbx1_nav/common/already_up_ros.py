@@ -1,5 +1,5 @@
 """Look before registering: is a node of this name already running?
-(the logic and lines: rbx1_nav.sim.already_up).
+(the logic and lines: rbx1_nav.common.already_up).
 
 The master shuts a node down when another registers under its name, so
 these checks run before ``rospy.init_node``, through the master's XML-RPC
@@ -16,9 +16,10 @@ import rosgraph
 
 from rbx1_nav.common import launch_end
 from rbx1_nav.common.master_watch import proxy
-from rbx1_nav.sim.already_up import refusal_text, resolved_name, skip_text
+from rbx1_nav.common.already_up import refusal_text, resolved_name, skip_text
 
-__all__ = ['running_pid', 'refuse_if_running', 'exec_unless_running', 'unless_running']
+__all__ = ['running_pid', 'refuse_if_running', 'running_already', 'exec_unless_running',
+           'unless_running']
 
 CALLER = '/rbx1_nav_already_up'
 
@@ -81,6 +82,22 @@ def refuse_if_running(default, argv=None, environ=None):
         # on its way out already.
         signal.signal(signal.SIGINT, signal.SIG_IGN)
         os.kill(parent, signal.SIGINT)
+    return True
+
+
+def running_already(default, argv=None, environ=None):
+    """True, having printed so, if a running node holds this node's name
+    (``default``, or its ``__name:=``): a second launch's node is then to
+    leave it alone (sim_clock.py; another program: unless_running.py)."""
+    argv = sys.argv if argv is None else argv
+    environ = os.environ if environ is None else environ
+    if {'-h', '--help'} & set(argv[1:]):
+        return False
+    name = resolved_name(argv, environ.get('ROS_NAMESPACE', ''), default)
+    pid = running_pid(name)
+    if pid is None or pid == os.getpid():
+        return False
+    print('[WARN] %s' % skip_text(name, pid), flush=True)
     return True
 
 
