@@ -126,11 +126,14 @@ class GrantReceiver(object):
         microseconds on a virtual machine). Meanwhile this
         thread sends the last report again every RESEND wall seconds
         without a grant (at once when a new owner appears) and warns
-        (``warning``, a NoOwnerWarning) while it gets none."""
-        while not rospy.is_shutdown():
+        (``warning``, a NoOwnerWarning) while it gets none. A shutdown wakes
+        it: a node roslaunch ends exits at once."""
+        rospy.on_shutdown(self._wake)
+        ending = rospy.core.is_shutdown_requested
+        while not ending():
             with self.cond:
                 self.cond.wait_for(
-                    lambda: self.rejoin or self.failure is not None, RESEND)
+                    lambda: self.rejoin or self.failure is not None or ending(), RESEND)
                 if self.failure is not None:
                     raise self.failure
                 rejoin, self.rejoin = self.rejoin, False
@@ -145,6 +148,10 @@ class GrantReceiver(object):
         deadline = time.monotonic() + LOST_MESSAGES
         while self.busy and time.monotonic() < deadline:  # a step under way ends
             rospy.rostime.wallsleep(0.01)                  # before the node does
+
+    def _wake(self):
+        with self.cond:
+            self.cond.notify_all()
 
     def simulators(self):
         """The simulators taking part, as the newest grant names them."""
