@@ -5,10 +5,12 @@ loaded when it ended (bench/bench.py's cpu section).
     modules_at_exit.py OUT.json SCRIPT [ARGS...]
 
 OUT.json: [[module file, lines], ...] of every ``rbx1_nav`` module in
-sys.modules at exit, written however the script ends (SystemExit too; not
-after os._exit). The script sees sys.argv as if run itself (rospy reads
+sys.modules at exit, written by atexit however the script ends (SystemExit
+too, and rbx1_nav.common.node_ros.exit_node, which runs atexit's functions
+before its os._exit). The script sees sys.argv as if run itself (rospy reads
 its remappings there).
 """
+import atexit
 import json
 import os
 import runpy
@@ -36,11 +38,12 @@ def rbx1_nav_modules():
 def main():
     out, script = sys.argv[1], sys.argv[2]
     sys.argv = sys.argv[2:]
-    try:
-        runpy.run_path(script, run_name='__main__')
-    finally:
+
+    def write():
         with open(out, 'w') as f:
             json.dump(rbx1_nav_modules(), f)
+    atexit.register(write)  # a node's exit_node runs atexit's functions, then os._exit
+    runpy.run_path(script, run_name='__main__')
 
 
 if __name__ == '__main__':

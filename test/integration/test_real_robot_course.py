@@ -41,9 +41,10 @@ PORTS = range(11491, 11499)
 #: (3440 with issue 56's driver checks: who else drives cmd_vel, invalid
 #: poses named, a refused start's parameters kept off the master; 3515
 #: once motion/ was split by concern, each piece a module with its header;
-#: 3532 with a node's exit that waits for rospy's shutdown hooks only, and
-#: the simulator's bounded writes, both among rospy's private names).
-LINES = 3535
+#: 3548 with a node's exit that waits for rospy's shutdown hooks only and
+#: skips the interpreter's teardown, and the simulator's bounded writes
+#: among rospy's private names: a launch's end 1.4 s sooner).
+LINES = 3550
 
 
 def _start(cmd, env, log):
