@@ -15,8 +15,8 @@ import xmlrpc.client
 import rosgraph
 
 from rbx1_nav.common import launch_end
-from rbx1_nav.common.master_watch import proxy
 from rbx1_nav.common.already_up import refusal_text, resolved_name, skip_text
+from rbx1_nav.common.master_watch import proxy
 
 __all__ = ['running_pid', 'refuse_if_running', 'running_already', 'exec_unless_running',
            'unless_running']
@@ -57,21 +57,28 @@ def _clock_running(master_uri, launch):
     return False
 
 
+def _holder(default, argv=None, environ=None):
+    """(name, pid) of the running node that holds this node's name (``default``,
+    or its ``__name:=``); None if none does, or for --help."""
+    argv = sys.argv if argv is None else argv
+    environ = os.environ if environ is None else environ
+    if {'-h', '--help'} & set(argv[1:]):
+        return None
+    name = resolved_name(argv, environ.get('ROS_NAMESPACE', ''), default)
+    pid = running_pid(name)
+    return None if pid is None or pid == os.getpid() else (name, pid)
+
+
 def refuse_if_running(default, argv=None, environ=None):
     """If this node's name (``default``, or its ``__name:=``) is held by a
     running node: print the refusal, put back /use_sim_time as the running
     graph needs it (this launch has just set it), end this roslaunch the
     way Ctrl-C does, and return True. Otherwise False."""
-    argv = sys.argv if argv is None else argv
-    environ = os.environ if environ is None else environ
-    if {'-h', '--help'} & set(argv[1:]):
+    held = _holder(default, argv, environ)
+    if held is None:
         return False
-    name = resolved_name(argv, environ.get('ROS_NAMESPACE', ''), default)
+    print('[ERROR] %s: %s' % (default, refusal_text(*held)), flush=True)
     master_uri = rosgraph.get_master_uri()
-    pid = running_pid(name, master_uri)
-    if pid is None or pid == os.getpid():
-        return False
-    print('[ERROR] %s: %s' % (default, refusal_text(name, pid)), flush=True)
     parent = os.getppid()
     clock = _clock_running(master_uri, parent)
     if clock is not None:
@@ -89,16 +96,10 @@ def running_already(default, argv=None, environ=None):
     """True, having printed so, if a running node holds this node's name
     (``default``, or its ``__name:=``): a second launch's node is then to
     leave it alone (sim_clock.py; another program: unless_running.py)."""
-    argv = sys.argv if argv is None else argv
-    environ = os.environ if environ is None else environ
-    if {'-h', '--help'} & set(argv[1:]):
-        return False
-    name = resolved_name(argv, environ.get('ROS_NAMESPACE', ''), default)
-    pid = running_pid(name)
-    if pid is None or pid == os.getpid():
-        return False
-    print('[WARN] %s' % skip_text(name, pid), flush=True)
-    return True
+    held = _holder(default, argv, environ)
+    if held is not None:
+        print('[WARN] %s' % skip_text(*held), flush=True)
+    return held is not None
 
 
 def exec_unless_running(argv, environ=None):
