@@ -127,7 +127,7 @@ def shutdown_hooks_done(timeout):
     while not rospy.core.is_shutdown():  # set under the lock, before the hooks
         if time.monotonic() >= deadline:
             return False
-        time.sleep(0.002)
+        rospy.rostime.wallsleep(0.002)  # shutdown is wall-timed: no /clock then
     if not rospy.core._shutdown_lock.acquire(timeout=max(0.0, deadline - time.monotonic())):
         return False
     rospy.core._shutdown_lock.release()
