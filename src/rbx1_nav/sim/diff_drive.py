@@ -176,6 +176,58 @@ def _ns(seconds):
     return int(round(seconds * 1e9))
 
 
+def _checked(config, size=1):
+    """``config`` (default: the ideal robot) once its values and ``size`` hold;
+    else ValueError."""
+    config = config or DiffDriveConfig()
+    problems = config.problems()
+    if problems:
+        raise ValueError('invalid fake robot parameters: ' + '; '.join(problems))
+    if isinstance(size, bool) or not isinstance(size, int) or size < 1:
+        raise ValueError('a fleet needs at least one robot, got %r' % (size,))
+    return config
+
+
+def _generators(seed):
+    """(encoder noise, gyro noise) generators from ``seed``: separate streams,
+    so turning one noise on leaves the other's draws as they were."""
+    return tuple(np.random.default_rng(s) for s in np.random.SeedSequence(seed).spawn(2))
+
+
+def _queued(cfg, v, w, stamp):
+    """((due ns, v, w) to queue, problem) for a command received at ``stamp``
+    s: see :meth:`DiffDriveFleet.command`."""
+    v, w = float(v), float(w)
+    due = _ns(stamp) + _ns(cfg.command_latency)
+    if not (math.isfinite(v) and math.isfinite(w)):
+        return (due, 0.0, 0.0), 'non-finite'
+    cv = max(-cfg.max_linear_speed, min(cfg.max_linear_speed, v))
+    cw = max(-cfg.max_angular_speed, min(cfg.max_angular_speed, w))
+    return (due, cv, cw), ('clamped' if (cv, cw) != (v, w) else None)
+
+
+def _clock(last, now):
+    """(time of this step ns, seconds since ``last`` or None, restarted) for
+    a step to ``now`` ns: the first only sets the clock, one at ``last``
+    integrates nothing, one before it restarts the clock there."""
+    if last is None or now < last:
+        return now, None, last is not None
+    dt = (now - last) * 1e-9
+    return now, (dt if dt != 0.0 else None), False
+
+
+def gyro_variances(cfg, period):
+    """(yaw, yaw rate) variances to report for the gyro of ``cfg`` at ``period`` s.
+
+    The rate variance is that of one reading plus the bias squared; the
+    yaw variance is the error the integrated yaw gathers in one second.
+    Both have a small floor so they are never zero.
+    """
+    rate_var = cfg.gyro_noise_density ** 2 / period + cfg.gyro_bias ** 2
+    yaw_var = cfg.gyro_noise_density ** 2 * 1.0 + cfg.gyro_bias ** 2
+    return max(yaw_var, 1e-6), max(rate_var, 1e-6)
+
+
 class DiffDriveFleet:
     """N simulated bases of one configuration: feed them commands and
     times, read their state (row i is robot i).
@@ -198,18 +250,12 @@ class DiffDriveFleet:
     """
 
     def __init__(self, size, config=None):
-        self.config = config or DiffDriveConfig()
-        problems = self.config.problems()
-        if problems:
-            raise ValueError('invalid fake robot parameters: ' + '; '.join(problems))
-        if isinstance(size, bool) or not isinstance(size, int) or size < 1:
-            raise ValueError('a fleet needs at least one robot, got %r' % (size,))
+        self.config = _checked(config, size)
         self.size = size
         # Encoder and gyro noise from separate streams, and encoder noise
         # drawn only while a base moves (at rest it is zero): a course
         # meets the same noise whenever it starts.
-        self._rng, self._gyro_rng = (np.random.default_rng(s) for s in
-                                     np.random.SeedSequence(self.config.seed).spawn(2))
+        self._rng, self._gyro_rng = _generators(self.config.seed)
         # Per robot: (executable at, v, w) in arrival order.
         self._pending = [deque() for _ in range(size)]
         self._cmd = np.zeros((size, 2))
@@ -255,16 +301,9 @@ class DiffDriveFleet:
         or infinite (the command is replaced by a stop) or ``'clamped'`` when
         a speed exceeded its limit (it is executed at the limit).
         """
-        cfg = self.config
-        v, w = float(v), float(w)
-        due = _ns(stamp) + _ns(cfg.command_latency)
-        if not (math.isfinite(v) and math.isfinite(w)):
-            self._pending[robot].append((due, 0.0, 0.0))
-            return 'non-finite'
-        cv = max(-cfg.max_linear_speed, min(cfg.max_linear_speed, v))
-        cw = max(-cfg.max_angular_speed, min(cfg.max_angular_speed, w))
-        self._pending[robot].append((due, cv, cw))
-        return 'clamped' if (cv, cw) != (v, w) else None
+        queued, problem = _queued(self.config, v, w, stamp)
+        self._pending[robot].append(queued)
+        return problem
 
     def step(self, now):
         """Advance every robot to ``now`` seconds; True if time advanced.
@@ -286,17 +325,11 @@ class DiffDriveFleet:
     def _advance_clock(self, now):
         """The seconds from the previous step to ``now`` (ns); None when
         time did not advance (see :meth:`step`)."""
-        if self._time is None or now < self._time:
-            if self._time is not None:  # restarted clock: forget old commands
-                for queue in self._pending:
-                    queue.clear()
-                self._cmd_time[:] = -np.inf
-            self._time = now
-            return None
-        dt = (now - self._time) * 1e-9
-        if dt == 0.0:
-            return None
-        self._time = now
+        self._time, dt, restarted = _clock(self._time, now)
+        if restarted:  # forget old commands
+            for queue in self._pending:
+                queue.clear()
+            self._cmd_time[:] = -np.inf
         return dt
 
     def _move(self, v, w, dt):
@@ -371,16 +404,9 @@ class DiffDriveFleet:
         self.gyro_yaw = wrap_angles(self.gyro_yaw + rate * dt)
 
     def gyro_variances(self, period):
-        """(yaw, yaw rate) variances to report for the gyro at ``period`` s.
-
-        The rate variance is that of one reading plus the bias squared; the
-        yaw variance is the error the integrated yaw gathers in one second.
-        Both have a small floor so they are never zero.
-        """
-        cfg = self.config
-        rate_var = cfg.gyro_noise_density ** 2 / period + cfg.gyro_bias ** 2
-        yaw_var = cfg.gyro_noise_density ** 2 * 1.0 + cfg.gyro_bias ** 2
-        return max(yaw_var, 1e-6), max(rate_var, 1e-6)
+        """(yaw, yaw rate) variances to report for the gyro at ``period`` s
+        (:func:`gyro_variances`)."""
+        return gyro_variances(self.config, period)
 
 
 class FleetRobot:
@@ -466,12 +492,8 @@ class DiffDriveSim:
     size = 1
 
     def __init__(self, config=None):
-        self.config = config or DiffDriveConfig()
-        problems = self.config.problems()
-        if problems:
-            raise ValueError('invalid fake robot parameters: ' + '; '.join(problems))
-        self._rng, self._gyro_rng = (np.random.default_rng(s) for s in
-                                     np.random.SeedSequence(self.config.seed).spawn(2))
+        self.config = _checked(config)
+        self._rng, self._gyro_rng = _generators(self.config.seed)
         self._pending = deque()  # (executable at ns, v, w) in arrival order
         self._cmd = (0.0, 0.0)
         self._cmd_time = -math.inf  # ns (a float, as a fleet's array holds it)
@@ -500,31 +522,20 @@ class DiffDriveSim:
     def command(self, v, w, stamp):
         """Queue a velocity command received at ``stamp`` seconds; see
         :meth:`DiffDriveFleet.command`."""
-        cfg = self.config
-        v, w = float(v), float(w)
-        due = _ns(stamp) + _ns(cfg.command_latency)
-        if not (math.isfinite(v) and math.isfinite(w)):
-            self._pending.append((due, 0.0, 0.0))
-            return 'non-finite'
-        cv = max(-cfg.max_linear_speed, min(cfg.max_linear_speed, v))
-        cw = max(-cfg.max_angular_speed, min(cfg.max_angular_speed, w))
-        self._pending.append((due, cv, cw))
-        return 'clamped' if (cv, cw) != (v, w) else None
+        queued, problem = _queued(self.config, v, w, stamp)
+        self._pending.append(queued)
+        return problem
 
     def step(self, now):
         """Advance the simulation to ``now`` seconds; True if time advanced
         (see :meth:`DiffDriveFleet.step`)."""
         now = _ns(now)
-        if self._time is None or now < self._time:
-            if self._time is not None:  # restarted clock: forget old commands
-                self._pending.clear()
-                self._cmd_time = -math.inf
-            self._time = now
+        self._time, dt, restarted = _clock(self._time, now)
+        if restarted:  # forget old commands
+            self._pending.clear()
+            self._cmd_time = -math.inf
+        if dt is None:
             return False
-        dt = (now - self._time) * 1e-9
-        if dt == 0.0:
-            return False
-        self._time = now
         cfg = self.config
         queue = self._pending
         while queue and queue[0][0] <= now:
@@ -569,8 +580,9 @@ class DiffDriveSim:
         self.odom_velocity = (ds / dt, dtheta / dt)
 
     def gyro_variances(self, period):
-        """(yaw, yaw rate) variances to report for the gyro at ``period`` s."""
-        return DiffDriveFleet.gyro_variances(self, period)
+        """(yaw, yaw rate) variances to report for the gyro at ``period`` s
+        (:func:`gyro_variances`)."""
+        return gyro_variances(self.config, period)
 
 
 def _wrap_one(angle):
