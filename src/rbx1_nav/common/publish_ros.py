@@ -47,14 +47,13 @@ def delivered(connection):
     return _LINK in (transport_header(connection) or {})
 
 
-def synchronous_publisher(topic, msg_class, **kwargs):
-    """A publisher that writes each message before publish() returns, with
-    no Nagle delay: lockstep waits for every message, so a hand-off to
-    rospy's queue thread would only add latency to each step."""
+def synchronous_publisher(topic, msg_class, cls=rospy.Publisher, **kwargs):
+    """A publisher (a ``cls``) that writes each message before publish()
+    returns, with no Nagle delay: lockstep waits for every message, so a
+    hand-off to rospy's queue thread would only add latency to each step."""
     with warnings.catch_warnings():  # queue_size None is the point here
         warnings.simplefilter('ignore', SyntaxWarning)
-        return rospy.Publisher(topic, msg_class, queue_size=None,
-                               tcp_nodelay=True, **kwargs)
+        return cls(topic, msg_class, queue_size=None, tcp_nodelay=True, **kwargs)
 
 
 def publish(pub, msg):

@@ -9,7 +9,6 @@ parameters ask for, :func:`model_config` its settings. The loop that steps
 the model is rbx1_nav.sim.loop_ros.
 """
 import os
-import warnings
 
 import numpy as np
 import rospkg
@@ -23,6 +22,7 @@ from rbx1_nav.sim.diff_drive import (DiffDriveConfig, DiffDriveFleet, DiffDriveS
                                       covariance_from_diagonal)
 from rbx1_nav.sim.params import GPS_UNKNOWN_VARIANCE, WARN_PERIOD
 from rbx1_nav.sim.physics import PhysicsConfig, PhysicsFleet
+from rbx1_nav.common.publish_ros import synchronous_publisher
 from rbx1_nav.common.rospy_private_ros import connection_header, connections, limit_send_wait
 from rbx1_nav.common.tf_publishers import (OtherPublisherWatch, foreign_parent,
                                            robot_conflict_text)
@@ -94,25 +94,18 @@ def _frame(ns, name):
 
 
 class UnheldPublisher(rospy.Publisher):
-    """A publisher that writes each message before publish() returns (as
-    rbx1_nav.common.publish_ros.synchronous_publisher does), and that no
-    subscriber holds up for long: a write waits at most ``stall`` wall s for
-    a subscriber that stopped reading (a terminal paused with Ctrl-Z, a host
+    """A synchronous_publisher (rbx1_nav.common.publish_ros) that no
+    subscriber holds up for long: a write waits at most STALL wall s for a
+    subscriber that stopped reading (a terminal paused with Ctrl-Z, a host
     gone from the network); then rospy drops that connection, as a broken
     one, and publishing goes on (a roscpp subscriber connects again, a rospy
     one once restarted). rospy's queued publishers bound the wait with a
     thread per subscriber woken for every message: at a simulator's 50 Hz,
     a quarter of its CPU."""
 
-    def __init__(self, topic, msg_class, stall, **kwargs):
-        with warnings.catch_warnings():  # queue_size None is the point here
-            warnings.simplefilter('ignore', SyntaxWarning)
-            super().__init__(topic, msg_class, queue_size=None, tcp_nodelay=True, **kwargs)
-        self.stall = stall
-
     def publish(self, *args, **kwargs):
         for connection in connections(self):
-            limit_send_wait(connection, self.stall)
+            limit_send_wait(connection, STALL)
         super().publish(*args, **kwargs)
 
 
@@ -224,7 +217,7 @@ class RobotTopics:
         it costs no thread woken per message; a subscriber that stops
         reading is dropped after STALL s (UnheldPublisher)."""
         def publisher(name, msg_class):
-            return UnheldPublisher(name, msg_class, STALL)
+            return synchronous_publisher(name, msg_class, cls=UnheldPublisher)
 
         self.odom_pub = publisher(_topic(ns, 'odom'), Odometry)
         self.truth_pub = publisher(_topic(ns, 'ground_truth'), Odometry)
